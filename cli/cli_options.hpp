@@ -1,0 +1,45 @@
+// cli/cli_options.hpp — the command line: parsing `fortu COMMAND [options]` into one
+// struct, with usage errors (exit status 2) reported before any work is done.
+#pragma once
+
+#include "interp/engine.hpp"
+#include "interp/model.hpp"
+
+#include <array>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace fortu {
+
+/// A usage error: the message is printed as `fortu: error: MESSAGE` with exit status 2.
+struct UsageError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+struct CliOptions {
+    std::string command;                       ///< run, eval, check, ir, help, version
+    std::vector<std::string> positional;       ///< MODEL, then coordinates for eval
+    std::vector<int> size;                     ///< --size: 1 to 3 node counts
+    std::array<std::optional<AxisRange>, 3> domain;  ///< --domain
+    EngineKind engine = EngineKind::Voxel;
+    std::optional<RSystem> rsystem;
+    std::string output;                        ///< -o
+    std::string mimages;                       ///< --mimages
+    std::string contour;                       ///< --contour
+    std::optional<int> slice;                  ///< --slice (3D picture outputs)
+    bool stats = false;
+    bool force = false;
+    double budget = 2e10;                      ///< classic operations per run before refusing
+    int threads = 0;
+    bool float32 = false;                      ///< --float32 for .npy output
+};
+
+/// Parses argv (without the program name). Throws UsageError.
+CliOptions parse_command_line(const std::vector<std::string>& args);
+
+/// The text of `fortu --help`.
+std::string usage_text();
+
+}  // namespace fortu

@@ -1,0 +1,277 @@
+// cli/main.cpp — the `fortu` binary: run, eval, check, ir. Each command loads and
+// compiles the model through interp/, then evaluates and writes through the engines and
+// runtime/ writers. Exit status: 0 success, 1 model error, 2 usage error.
+#include "cli/cli_options.hpp"
+
+#include "grammar/diagnostic.hpp"
+#include "interp/classic_cost.hpp"
+#include "interp/engine.hpp"
+#include "interp/ir_print.hpp"
+#include "interp/lower.hpp"
+#include "runtime/field_stats.hpp"
+#include "runtime/fv_model.hpp"
+#include "runtime/output.hpp"
+#include "runtime/contour.hpp"
+#include "runtime/output_error.hpp"
+#include "runtime/progress.hpp"
+#include "runtime/resources.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <fmt/format.h>
+#include <iostream>
+#include <unistd.h>
+
+namespace fortu {
+namespace {
+
+constexpr int kExitModelError = 1;
+constexpr int kExitUsage = 2;
+
+/// The installed stdlib: `stdlib/` next to the binary, then the source tree's.
+std::vector<std::string> stdlib_dirs() {
+    std::vector<std::string> dirs;
+    std::error_code ec;
+    auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+    if (!ec) {
+        dirs.push_back((exe.parent_path() / "stdlib").string());
+        dirs.push_back((exe.parent_path().parent_path() / "stdlib").string());
+    }
+    return dirs;
+}
+
+struct Loaded {
+    std::optional<Model> model;
+    DiagnosticSink sink;
+};
+
+/// Reads and compiles MODEL; prints its diagnostics (notes only when asked).
+std::optional<Model> load_model(const CliOptions& o, bool show_notes, double& seconds) {
+    Stopwatch clock;
+    std::string error;
+    auto source = SourceFile::load(o.positional[0], error);
+    if (!source) {
+        std::cerr << fmt::format("fortu: error: {}\n", error);
+        return std::nullopt;
+    }
+    DiagnosticSink sink;
+    CompileOptions options;
+    options.rsystem = o.rsystem;
+    options.include_dirs = stdlib_dirs();
+    std::optional<Model> model = compile(source, options, sink);
+    for (const Diagnostic& d : sink.diagnostics())
+        if (d.severity != Severity::Note || show_notes) std::cerr << render(d);
+    seconds = clock.seconds();
+    return model;
+}
+
+Grid make_grid(const Model& model, const CliOptions& o) {
+    Grid grid;
+    grid.dims = model.dims();
+    Axis* axes[3] = {&grid.x, &grid.y, &grid.z};
+    const int axis_count = static_cast<int>(model.arguments.size());
+    for (int a = 0; a < 3; ++a) {
+        AxisRange r{-1.0, 1.0};
+        if (a < axis_count && model.ranges[a]) r = *model.ranges[a];
+        if (o.domain[a]) r = *o.domain[a];
+        axes[a]->min = r.min;
+        axes[a]->max = r.max;
+    }
+    // Node counts: --size, else RECTBMP, else 256² / 64³; a 1-argument model has one row.
+    int nodes[3] = {256, 256, 1};
+    if (grid.dims == 3) nodes[0] = nodes[1] = nodes[2] = 64;
+    if (model.raster) { nodes[0] = (*model.raster)[0]; nodes[1] = (*model.raster)[1]; }
+    if (!o.size.empty()) {
+        for (int a = 0; a < 3; ++a) nodes[a] = o.size[std::min<std::size_t>(a, o.size.size() - 1)];
+        if (grid.dims == 2 && o.size.size() == 3)
+            throw UsageError(fmt::format("--size: the model has {} argument(s); give N or WxH", axis_count));
+    }
+    if (grid.dims == 2) nodes[2] = 1;
+    if (axis_count == 1) nodes[1] = 1;
+    grid.x.nodes = nodes[0];
+    grid.y.nodes = nodes[1];
+    grid.z.nodes = nodes[2];
+    const double points = double(nodes[0]) * nodes[1] * nodes[2];
+    if (points > double(kMaxGridPoints))
+        throw UsageError(fmt::format("--size: {}x{}{} is {} points, more than the {} fortu allocates",
+                                     nodes[0], nodes[1], grid.dims == 3 ? fmt::format("x{}", nodes[2]) : "",
+                                     format_operations(points), format_operations(double(kMaxGridPoints))));
+    return grid;
+}
+
+std::string grid_text(const Grid& g) {
+    return g.dims == 3 ? fmt::format("{}x{}x{}", g.cols(), g.rows(), g.slices())
+                       : fmt::format("{}x{}", g.cols(), g.rows());
+}
+
+int command_check(const CliOptions& o) {
+    double seconds = 0;
+    std::optional<Model> model = load_model(o, /*show_notes=*/true, seconds);
+    if (!model) return kExitModelError;
+    std::cout << fmt::format("{}: ok ({} argument{}, {} nodes)\n", o.positional[0], model->arguments.size(),
+                             model->arguments.size() == 1 ? "" : "s", ir_stats(*model).nodes);
+    return 0;
+}
+
+int command_ir(const CliOptions& o) {
+    double seconds = 0;
+    std::optional<Model> model = load_model(o, false, seconds);
+    if (!model) return kExitModelError;
+    std::cout << print_ir(*model, o.positional[0]);
+    return 0;
+}
+
+double parse_coordinate(const std::string& text) {
+    try {
+        std::size_t used = 0;
+        double v = std::stod(text, &used);
+        if (used == text.size() && std::isfinite(v)) return v;
+    } catch (...) {
+    }
+    throw UsageError(fmt::format("'fortu eval': '{}' is not a finite coordinate", text));
+}
+
+/// Refuses a classic run whose expanded-tree cost exceeds the budget (unless --force).
+bool classic_within_budget(const Model& model, const CliOptions& o, double points) {
+    if (o.engine != EngineKind::Classic || o.force) return true;
+    const double per_point = classic_operations_per_point(model.graph, model.root);
+    const int depth = dag_depth(model.graph, model.root);
+    if (depth > kClassicMaxDepth) {
+        std::cerr << fmt::format("fortu: error: the model is nested {} levels deep; the classic engine's "
+                                 "recursion stops at {}\nnote: use --engine voxel\n", depth, kClassicMaxDepth);
+        return false;
+    }
+    const double total = per_point * points;
+    if (total <= o.budget) return true;
+    std::cerr << fmt::format(
+        "fortu: error: the classic engine would need {} operations per point x {} points = {} operations "
+        "(budget {})\nnote: use --engine voxel ({} operations per point), a smaller --size, a larger "
+        "--budget, or --force\n",
+        format_operations(per_point), format_operations(points), fmt::format("{:.3g}", total),
+        fmt::format("{:.3g}", o.budget), format_operations(double(ir_stats(model).operations)));
+    return false;
+}
+
+int command_eval(const CliOptions& o) {
+    double seconds = 0;
+    std::optional<Model> model = load_model(o, false, seconds);
+    if (!model) return kExitModelError;
+    std::array<double, 3> p{0, 0, 0};
+    const int given = static_cast<int>(o.positional.size()) - 1;
+    const int dims = static_cast<int>(model->arguments.size());
+    if (given != std::max(dims, 2) && !(dims == 1 && given == 1))
+        throw UsageError(fmt::format("'fortu eval': the model has {} argument(s); give {} coordinate(s)",
+                                     dims, std::max(dims, 2)));
+    for (int i = 0; i < given; ++i) p[i] = parse_coordinate(o.positional[1 + i]);
+    if (!classic_within_budget(*model, o, 1.0 + model->dims())) return kExitUsage;
+
+    const PointValue v = evaluate_point(*model, p, o.engine);
+    // The M-image normal: the plane through the point and its forward neighbours one grid
+    // step away (the grid run would use), fv-method.md §1.
+    const Grid grid = make_grid(*model, o);
+    const double h[3] = {grid.x.step() > 0 ? grid.x.step() : 1.0, grid.y.step() > 0 ? grid.y.step() : 1.0,
+                         grid.z.step() > 0 ? grid.z.step() : 1.0};
+    auto value_at = [&](double dx, double dy, double dz) {
+        return evaluate_point(*model, {p[0] + dx, p[1] + dy, p[2] + dz}, o.engine).value;
+    };
+    std::cout << fmt::format("value: {}\n", v.value);
+    if (model->dims() == 3) {
+        std::cout << fmt::format("gradient: {} {} {}\n", v.gradient[0], v.gradient[1], v.gradient[2]);
+        auto n = fv_hyperplane({p[0], p[1], p[2], v.value}, {p[0] + h[0], p[1], p[2], value_at(h[0], 0, 0)},
+                               {p[0], p[1] + h[1], p[2], value_at(0, h[1], 0)},
+                               {p[0], p[1], p[2] + h[2], value_at(0, 0, h[2])});
+        std::cout << fmt::format("normal: {} {} {} {} {}\n", n[0], n[1], n[2], n[3], n[4]);
+    } else {
+        std::cout << fmt::format("gradient: {} {}\n", v.gradient[0], v.gradient[1]);
+        auto n = fv_plane({p[0], p[1], v.value}, {p[0] + h[0], p[1], value_at(h[0], 0, 0)},
+                          {p[0], p[1] + h[1], value_at(0, h[1], 0)});
+        std::cout << fmt::format("normal: {} {} {} {}\n", n[0], n[1], n[2], n[3]);
+    }
+    std::cout << fmt::format("inside: {}\n", v.value > 0 ? "yes" : v.value == 0 ? "boundary" : std::isfinite(v.value) ? "no" : "invalid");
+    return 0;
+}
+
+int command_run(const CliOptions& o) {
+    double compile_seconds = 0;
+    std::optional<Model> model = load_model(o, false, compile_seconds);
+    if (!model) return kExitModelError;
+    const Grid grid = make_grid(*model, o);
+    if (!classic_within_budget(*model, o, double(grid.points()))) return kExitUsage;
+
+    Progress progress(fmt::format("{} {}", engine_name(o.engine), grid_text(grid)), grid.points());
+    EvalOptions eval;
+    eval.threads = o.threads;
+    eval.progress = [&](std::size_t n) { progress.advance(n); };
+    Stopwatch clock;
+    Field field = evaluate_grid(*model, grid, o.engine, eval);
+    const double eval_seconds = clock.seconds();
+    progress.finish();
+
+    const FieldStats stats = field_stats(field);
+    if (stats.invalid > 0)
+        std::cerr << fmt::format("fortu: note: {} invalid point{} (non-finite values)\n", stats.invalid,
+                                 stats.invalid == 1 ? "" : "s");
+    Stopwatch write_clock;
+    OutputOptions out;
+    if (o.slice) out.slice = *o.slice;
+    out.npy_float32 = o.float32;
+    if (o.slice && grid.dims == 3 && *o.slice >= grid.slices())
+        throw UsageError(fmt::format("--slice: {} is outside 0..{}", *o.slice, grid.slices() - 1));
+    try {
+        if (!o.output.empty()) write_field(field, o.output, out);
+        if (!o.mimages.empty()) write_mimages(field, o.mimages, out);
+        if (!o.contour.empty()) write_contour_svg(field, o.contour, out);
+    } catch (const OutputError& e) {
+        std::cerr << fmt::format("fortu: error: {}\n", e.what());
+        return kExitModelError;
+    }
+    const double write_seconds = write_clock.seconds();
+
+    if (o.stats) {
+        const IrStats s = ir_stats(*model);
+        std::cout << fmt::format(
+            "model: {}\ngrid: {} = {} points, x [{}, {}], y [{}, {}]{}\n"
+            "nodes: {} ({} operations), shared: {}, hash-consing reuses: {}\n"
+            "classic cost: {} operations per point; voxel: {}\n"
+            "engine: {}, threads: {}\n"
+            "time: compile {:.3f} s, evaluate {:.3f} s, write {:.3f} s\n"
+            "speed: {} points/s\n"
+            "values: min {}, max {}, inside {}, boundary {}, outside {}, invalid {}\n"
+            "peak memory: {}\n",
+            o.positional[0], grid_text(grid), format_operations(double(grid.points())), grid.x.min, grid.x.max,
+            grid.y.min, grid.y.max, grid.dims == 3 ? fmt::format(", z [{}, {}]", grid.z.min, grid.z.max) : "",
+            s.nodes, s.operations, s.shared, s.reuses, format_operations(s.classic_operations),
+            format_operations(double(s.operations)), engine_name(o.engine), o.threads > 0 ? o.threads : int(std::max(1u, std::thread::hardware_concurrency())),
+            compile_seconds, eval_seconds, write_seconds,
+            format_operations(eval_seconds > 0 ? double(grid.points()) / eval_seconds : 0.0),
+            stats.min, stats.max, stats.positive, stats.zero, stats.negative, stats.invalid,
+            format_bytes(peak_rss_bytes()));
+    }
+    return 0;
+}
+
+}  // namespace
+}  // namespace fortu
+
+int main(int argc, char** argv) {
+    using namespace fortu;
+    std::vector<std::string> args(argv + 1, argv + argc);
+    try {
+        CliOptions o = parse_command_line(args);
+        if (o.command == "help") { std::cout << usage_text(); return 0; }
+        if (o.command == "version") { std::cout << "fortu 0.1.0\n"; return 0; }
+        if (o.command == "check") return command_check(o);
+        if (o.command == "ir") return command_ir(o);
+        if (o.command == "eval") return command_eval(o);
+        return command_run(o);
+    } catch (const UsageError& e) {
+        std::cerr << "fortu: error: " << e.what() << "\n";
+        return kExitUsage;
+    } catch (const std::bad_alloc&) {
+        std::cerr << "fortu: error: out of memory\n";
+        return kExitModelError;
+    } catch (const std::exception& e) {
+        std::cerr << "fortu: error: " << e.what() << "\n";
+        return kExitModelError;
+    }
+}

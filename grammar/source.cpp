@@ -1,0 +1,75 @@
+// grammar/source.cpp — SourceFile: a script's bytes, loaded verbatim, and its line table.
+// Lines end at '\n'; a '\r' before it (files edited on Windows) is not part of the line.
+#include "grammar/source.hpp"
+
+#include <cerrno>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <system_error>
+
+namespace fortu {
+
+SourceFile::SourceFile(std::string path, std::string text)
+    : path_(std::move(path)), text_(std::move(text)) {
+    // An empty file still has one (empty) line, so every position has a line to show.
+    line_starts_.push_back(0);
+    for (size_t i = 0; i < text_.size(); ++i) {
+        if (text_[i] == '\n' && i + 1 < text_.size()) {
+            line_starts_.push_back(static_cast<uint32_t>(i + 1));
+        }
+    }
+}
+
+std::shared_ptr<SourceFile> SourceFile::load(const std::string& path, std::string& error) {
+    // fopen() succeeds on a directory on Linux and the read fails later with a vaguer
+    // message, so ask first.
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) {
+        error = "cannot read '" + path + "': is a directory";
+        return nullptr;
+    }
+    std::FILE* file = std::fopen(path.c_str(), "rb");
+    if (file == nullptr) {
+        error = "cannot read '" + path + "': " + std::strerror(errno);
+        return nullptr;
+    }
+    std::string text;
+    char buffer[1 << 16];
+    size_t n = 0;
+    while ((n = std::fread(buffer, 1, sizeof buffer, file)) > 0) {
+        text.append(buffer, n);
+    }
+    const bool failed = std::ferror(file) != 0;
+    const int saved_errno = errno;
+    std::fclose(file);
+    if (failed) {
+        error = "cannot read '" + path + "': " + std::strerror(saved_errno);
+        return nullptr;
+    }
+    // Positions are stored as 32-bit offsets; no script comes near this.
+    if (text.size() >= UINT32_MAX) {
+        error = "cannot read '" + path + "': file too large";
+        return nullptr;
+    }
+    error.clear();
+    return std::make_shared<SourceFile>(path, std::move(text));
+}
+
+std::string_view SourceFile::line(int line) const {
+    if (line < 1 || line > line_count()) {
+        return {};
+    }
+    const size_t begin = line_starts_[static_cast<size_t>(line - 1)];
+    size_t end = text_.find('\n', begin);
+    if (end == std::string::npos) {
+        end = text_.size();
+    }
+    if (end > begin && text_[end - 1] == '\r') {
+        --end;
+    }
+    return std::string_view(text_).substr(begin, end - begin);
+}
+
+}  // namespace fortu

@@ -1,0 +1,19 @@
+// interp/classic_engine.hpp — the papers' baseline: recursive R-functional evaluation.
+//
+// Why it exists: the papers measure iterative functional-voxel composition against this.
+// For each point the RETURN expression is evaluated by recursive descent with nothing
+// saved: every reference to a variable re-evaluates its definition (walking the DAG without
+// memo is exactly walking the fully expanded tree), and every R-operation goes through its
+// defining formula, whose getters re-evaluate an operand each time the formula references
+// it. Cost per point = the expanded tree size (classic_cost.hpp), doubling per nested R0
+// operation. Clean and reasonably efficient, never memoised.
+#pragma once
+
+#include "interp/engine.hpp"
+
+namespace fortu {
+
+void classic_evaluate_grid(const ir::Graph& graph, ir::NodeId root, Field& field, const EvalOptions& options);
+PointValue classic_evaluate_point(const ir::Graph& graph, ir::NodeId root, std::array<double, 3> point);
+
+}  // namespace fortu

@@ -1,0 +1,51 @@
+// interp/engine.hpp — what both engines share: which one, how to run it, and the entry
+// points the command line calls (a whole grid, or one point with its gradient).
+#pragma once
+
+#include "interp/model.hpp"
+#include "runtime/field.hpp"
+#include "runtime/grid.hpp"
+
+#include <array>
+#include <atomic>
+#include <cstddef>
+#include <functional>
+#include <optional>
+#include <string>
+
+namespace fortu {
+
+enum class EngineKind { Classic, Voxel };
+
+std::optional<EngineKind> parse_engine(const std::string& name);
+const char* engine_name(EngineKind kind);
+
+struct EvalOptions {
+    int threads = 0;                                   ///< 0: all cores
+    std::function<void(std::size_t points)> progress;  ///< called as tiles/rows complete
+    const std::atomic<bool>* cancel = nullptr;         ///< set to stop early (REPL Ctrl-C)
+};
+
+/// Samples the model on every node of `grid` with the chosen engine. Both engines give
+/// the same values (the same kernels in the same order; see architecture.md).
+Field evaluate_grid(const Model& model, const Grid& grid, EngineKind engine,
+                    const EvalOptions& options = {});
+/// The same for any node of the model's graph (a sub-expression).
+Field evaluate_grid(const ir::Graph& graph, ir::NodeId root, const Grid& grid, EngineKind engine,
+                    const EvalOptions& options = {});
+
+struct PointValue {
+    double value = 0.0;
+    std::array<double, 3> gradient{};   ///< exact (forward-mode AD), d/dX, d/dY, d/dZ
+};
+
+/// The value and gradient at one point (coordinates beyond the model's arguments ignored).
+PointValue evaluate_point(const Model& model, std::array<double, 3> point, EngineKind engine);
+
+/// Deepest recursion the classic engine accepts (its walk is recursive by definition).
+inline constexpr int kClassicMaxDepth = 20000;
+
+/// Length of the longest operand chain from the root (the classic engine's recursion depth).
+int dag_depth(const ir::Graph& graph, ir::NodeId root);
+
+}  // namespace fortu

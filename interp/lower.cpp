@@ -1,0 +1,749 @@
+// interp/lower.cpp — semantic checks and lowering of a FORTU script to the IR.
+#include "interp/lower.hpp"
+
+#include "grammar/ast.hpp"
+#include "grammar/parse.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <fmt/format.h>
+#include <map>
+#include <set>
+#include <unordered_map>
+
+namespace fortu {
+namespace {
+
+using ir::NodeId;
+using ir::Op;
+
+std::string lower_case(std::string_view s) {
+    std::string out(s);
+    for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return out;
+}
+
+std::string format_number(double v) { return fmt::format("{}", v); }
+
+// ---- built-ins ----------------------------------------------------------------------
+
+struct Builtin {
+    const char* name;
+    Op op;
+    int min_args;
+    int max_args;   ///< -1: any number >= min_args (MIN, MAX fold left)
+};
+
+// Calls with an op of Op::Const are the special forms handled in lower_call.
+constexpr Builtin kBuiltins[] = {
+    {"SQRT", Op::Sqrt, 1, 1},   {"ABS", Op::Abs, 1, 1},       {"EXP", Op::Exp, 1, 1},
+    {"LOG", Op::Ln, 1, 1},      {"LN", Op::Ln, 1, 1},         {"LOG10", Op::Log10, 1, 1},
+    {"LOG2", Op::Log2, 1, 1},   {"SIN", Op::Sin, 1, 1},       {"COS", Op::Cos, 1, 1},
+    {"TAN", Op::Tan, 1, 1},     {"ASIN", Op::Asin, 1, 1},     {"ACOS", Op::Acos, 1, 1},
+    {"ATAN", Op::Atan, 1, 2},   {"ARCSIN", Op::Asin, 1, 1},   {"ARCCOS", Op::Acos, 1, 1},
+    {"ARCTAN", Op::Atan, 1, 2}, {"ATAN2", Op::Atan2, 2, 2},   {"SINH", Op::Sinh, 1, 1},
+    {"COSH", Op::Cosh, 1, 1},   {"TANH", Op::Tanh, 1, 1},     {"SIGN", Op::Sign, 1, 1},
+    {"MIN", Op::Min, 2, -1},    {"MAX", Op::Max, 2, -1},      {"FLOOR", Op::Floor, 1, 1},
+    {"CEIL", Op::Ceil, 1, 1},   {"MOD", Op::Mod, 2, 2},       {"POW", Op::Pow, 2, 2},
+    {"HYPOT", Op::Hypot, 2, 2}, {"RAND", Op::RAnd, 2, -1},    {"ROR", Op::ROr, 2, -1},
+    {"RNOT", Op::Neg, 1, 1},    {"SIZE", Op::Const, 1, 1},   {"SELECT", Op::Select, 3, 3},
+};
+
+const Builtin* find_builtin(std::string_view name) {
+    std::string upper(name);
+    for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    for (const Builtin& b : kBuiltins)
+        if (upper == b.name) return &b;
+    return nullptr;
+}
+
+std::string plural(int n, const char* word) {
+    return fmt::format("{} {}{}", n, word, n == 1 ? "" : "s");
+}
+
+// ---- scope --------------------------------------------------------------------------
+
+struct Binding {
+    enum class Kind { Argument, Constant, Variable, Array, Function };
+    Kind kind = Kind::Variable;
+    std::string name;
+    SourceRange where;
+    NodeId node = ir::kNoNode;
+    std::vector<double> array;
+    const ast::FunctionDef* function = nullptr;
+};
+
+const char* kind_word(Binding::Kind kind) {
+    switch (kind) {
+        case Binding::Kind::Argument: return "argument";
+        case Binding::Kind::Constant: return "constant";
+        case Binding::Kind::Variable: return "variable";
+        case Binding::Kind::Array: return "array";
+        case Binding::Kind::Function: return "function";
+    }
+    return "name";
+}
+
+/// Names in force at one point of the script. Re-definition replaces a binding (SSA
+/// renaming: each use sees the latest definition before it). Function calls push a child
+/// scope for parameters and local definitions.
+class Scope {
+public:
+    explicit Scope(const Scope* parent = nullptr) : parent_(parent) {}
+
+    void define(Binding binding) {
+        const std::string key = binding.name;
+        folded_[lower_case(key)].insert(key);
+        bindings_[key] = std::move(binding);
+    }
+    const Binding* exact(const std::string& name) const {
+        if (auto it = bindings_.find(name); it != bindings_.end()) return &it->second;
+        return parent_ ? parent_->exact(name) : nullptr;
+    }
+    /// Distinct spellings, in this scope and its parents, equal to `name` ignoring case.
+    void case_matches(const std::string& name, std::set<std::string>& out) const {
+        if (auto it = folded_.find(lower_case(name)); it != folded_.end())
+            out.insert(it->second.begin(), it->second.end());
+        if (parent_) parent_->case_matches(name, out);
+    }
+
+private:
+    const Scope* parent_;
+    std::unordered_map<std::string, Binding> bindings_;
+    std::unordered_map<std::string, std::set<std::string>> folded_;
+};
+
+// ---- the lowering pass ----------------------------------------------------------------
+
+enum class Context { Constant, Variable };
+
+class Lowerer {
+public:
+    Lowerer(const CompileOptions& options, DiagnosticSink& sink, Model& model)
+        : options_(options), sink_(sink), model_(model), graph_(model.graph) {}
+
+    void run(const std::shared_ptr<const SourceFile>& source) {
+        model_.sources.push_back(source);
+        included_.insert(canonical(source->path()));
+        const int errors_before = sink_.error_count();
+        ast::Script script = parse_script(*source, sink_);
+        // Syntax errors leave holes in the tree (a definition lost to recovery); checking
+        // what remains would only report their echoes ("unknown name", "no RETURN").
+        if (sink_.error_count() != errors_before) return;
+        if (script.statements.empty()) {
+            sink_.error(at_start(*source),
+                        "empty script: expected ARGUMENT, definitions and RETURN");
+            return;
+        }
+        lower_block(script.statements, global_);
+        if (!syntax_errors_) finish(*source, script);
+    }
+
+private:
+    // -- statements --
+
+    void lower_block(const std::vector<ast::Statement>& statements, Scope& scope) {
+        for (const ast::Statement& statement : statements) {
+            if (too_many_errors()) return;
+            if (return_seen_ && scope_depth_ == 0 && !warned_after_return_ &&
+                !std::holds_alternative<ast::ReturnStmt>(statement.node)) {
+                sink_.warning(statement.range, "statement after RETURN is ignored");
+                warned_after_return_ = true;
+            }
+            if (return_seen_ && scope_depth_ == 0 &&
+                !std::holds_alternative<ast::ReturnStmt>(statement.node))
+                continue;
+            std::visit([&](const auto& node) { lower_statement(statement, node, scope); },
+                       statement.node);
+        }
+    }
+
+    void lower_statement(const ast::Statement&, const ast::ArgumentStmt& stmt, Scope& scope) {
+        for (const ast::ArgumentDecl& decl : stmt.arguments) {
+            if (std::find(model_.arguments.begin(), model_.arguments.end(), decl.name) !=
+                model_.arguments.end()) {
+                sink_.error(decl.range, fmt::format("argument '{}' declared twice", decl.name));
+                continue;
+            }
+            if (model_.arguments.size() == 3) {
+                sink_.error(decl.range,
+                            fmt::format("too many arguments: a model has at most 3 (X, Y, Z), "
+                                        "'{}' would be the 4th", decl.name));
+                continue;
+            }
+            const int axis = static_cast<int>(model_.arguments.size());
+            model_.arguments.push_back(decl.name);
+            if (decl.range_hi) {
+                double lo = 0, hi = 0;
+                bool ok = constant_of(*decl.range_hi, scope, "an argument range", hi);
+                if (decl.range_lo) ok = constant_of(*decl.range_lo, scope, "an argument range", lo) && ok;
+                else lo = -hi;
+                if (ok && !(lo < hi)) {
+                    sink_.error(decl.range,
+                                fmt::format("argument range needs min < max, got {}({}, {})",
+                                            decl.name, format_number(lo), format_number(hi)));
+                } else if (ok) {
+                    model_.ranges[axis] = AxisRange{lo, hi};
+                }
+            } else if (rectangle_ && axis < 2) {
+                model_.ranges[axis] = axis == 0 ? AxisRange{(*rectangle_)[0], (*rectangle_)[2]}
+                                                : AxisRange{(*rectangle_)[1], (*rectangle_)[3]};
+            }
+            Binding b;
+            b.kind = Binding::Kind::Argument;
+            b.name = decl.name;
+            b.where = decl.range;
+            b.node = graph_.argument(axis);
+            scope.define(std::move(b));
+        }
+    }
+
+    void lower_statement(const ast::Statement& statement, const ast::Definition& def, Scope& scope) {
+        if (def.value && def.value->kind == ast::Expr::Kind::Array) {
+            define_array(statement, def, scope);
+            return;
+        }
+        const Context context =
+            def.section == ast::Section::Constant ? Context::Constant : Context::Variable;
+        NodeId node = lower_expr(*def.value, scope, context);
+        Binding b;
+        b.kind = context == Context::Constant ? Binding::Kind::Constant : Binding::Kind::Variable;
+        b.name = def.name;
+        b.where = def.name_range;
+        b.node = node;
+        if (context == Context::Constant && !graph_.is_constant(node) && !poisoned_) {
+            sink_.warning(def.name_range,
+                          fmt::format("CONSTANT '{}' is not a finite number", def.name));
+        }
+        poisoned_ = false;
+        scope.define(std::move(b));
+    }
+
+    void define_array(const ast::Statement&, const ast::Definition& def, Scope& scope) {
+        Binding b;
+        b.kind = Binding::Kind::Array;
+        b.name = def.name;
+        b.where = def.name_range;
+        if (def.section != ast::Section::Constant) {
+            sink_.error(def.value->range,
+                        fmt::format("array '{}' must be a CONSTANT", def.name),
+                        "arrays hold compile-time numbers: CONSTANT P = [1, 2, 3];");
+        }
+        // An element that names an array splices it in, so arrays can grow in loops:
+        // CONSTANT PX = [PX, X0 + R*COS(T)];
+        for (const ast::ExprPtr& element : def.value->operands) {
+            if (const Binding* array = as_array(*element, scope)) {
+                b.array.insert(b.array.end(), array->array.begin(), array->array.end());
+                continue;
+            }
+            double v = 0;
+            constant_of(*element, scope, "an array element", v);
+            b.array.push_back(v);
+        }
+        scope.define(std::move(b));
+    }
+
+    void lower_statement(const ast::Statement& statement, const ast::ReturnStmt& stmt, Scope& scope) {
+        if (scope_depth_ > 0) {
+            // A function body's RETURN is handled by call_function.
+            (void)statement; (void)stmt; (void)scope;
+            return;
+        }
+        if (return_seen_) {
+            sink_.error(statement.range, "second RETURN: a script defines one function");
+            sink_.note(first_return_, "the first RETURN is here");
+            return;
+        }
+        return_seen_ = true;
+        first_return_ = statement.range;
+        if (model_.arguments.empty()) return;  // reported in finish()
+        model_.root = lower_expr(*stmt.value, scope, Context::Variable);
+    }
+
+    void lower_statement(const ast::Statement& statement, const ast::RectangleStmt& stmt, Scope& scope) {
+        std::array<double, 4> r{};
+        bool ok = constant_of(*stmt.xmin, scope, "RECTANGLE", r[0]);
+        ok = constant_of(*stmt.ymin, scope, "RECTANGLE", r[1]) && ok;
+        ok = constant_of(*stmt.xmax, scope, "RECTANGLE", r[2]) && ok;
+        ok = constant_of(*stmt.ymax, scope, "RECTANGLE", r[3]) && ok;
+        if (!ok) return;
+        if (!(r[0] < r[2]) || !(r[1] < r[3])) {
+            sink_.error(statement.range,
+                        fmt::format("RECTANGLE needs xmin < xmax and ymin < ymax, got ({}, {}, {}, {})",
+                                    format_number(r[0]), format_number(r[1]),
+                                    format_number(r[2]), format_number(r[3])),
+                        "RECTANGLE(xmin, ymin, xmax, ymax)");
+            return;
+        }
+        rectangle_ = r;
+        // Arguments declared before RECTANGLE without a range of their own follow it too.
+        for (std::size_t axis = 0; axis < std::min<std::size_t>(2, model_.arguments.size()); ++axis)
+            if (!model_.ranges[axis])
+                model_.ranges[axis] = axis == 0 ? AxisRange{r[0], r[2]} : AxisRange{r[1], r[3]};
+    }
+
+    void lower_statement(const ast::Statement&, const ast::RectBmpStmt& stmt, Scope& scope) {
+        double size[2] = {0, 0};
+        const ast::Expr* exprs[2] = {stmt.width.get(), stmt.height.get()};
+        bool ok = true;
+        for (int i = 0; i < 2; ++i) {
+            if (!constant_of(*exprs[i], scope, "RECTBMP", size[i])) { ok = false; continue; }
+            if (!(size[i] >= 1 && size[i] <= 1'000'000 && size[i] == std::floor(size[i]))) {
+                sink_.error(exprs[i]->range,
+                            fmt::format("RECTBMP sizes must be positive integers, got {}",
+                                        format_number(size[i])));
+                ok = false;
+            }
+        }
+        if (ok) model_.raster = std::array<int, 2>{static_cast<int>(size[0]), static_cast<int>(size[1])};
+    }
+
+    void lower_statement(const ast::Statement& statement, const ast::RSystemStmt& stmt, Scope& scope) {
+        switch (stmt.kind) {
+            case ast::RSystemStmt::Kind::R0: alpha_ = 0.0; return;
+            case ast::RSystemStmt::Kind::MinMax: alpha_ = 1.0; return;
+            case ast::RSystemStmt::Kind::Alpha: {
+                double a = 0;
+                if (!constant_of(*stmt.alpha, scope, "ALPHA", a)) return;
+                if (!(a > -1.0 && a <= 1.0)) {
+                    sink_.error(stmt.alpha->range,
+                                fmt::format("ALPHA must be in (-1, 1], got {}", format_number(a)));
+                    return;
+                }
+                alpha_ = a;
+                return;
+            }
+        }
+        (void)statement;
+    }
+
+    void lower_statement(const ast::Statement&, const ast::FunctionDef& def, Scope& scope) {
+        Binding b;
+        b.kind = Binding::Kind::Function;
+        b.name = def.name;
+        b.where = def.name_range;
+        b.function = &def;
+        int returns = 0;
+        for (const ast::Statement& s : def.body) {
+            if (std::holds_alternative<ast::ReturnStmt>(s.node)) {
+                if (++returns == 2)
+                    sink_.error(s.range, fmt::format("second RETURN in function '{}'", def.name));
+            } else if (std::holds_alternative<ast::ArgumentStmt>(s.node) ||
+                       std::holds_alternative<ast::FunctionDef>(s.node) ||
+                       std::holds_alternative<ast::IncludeStmt>(s.node) ||
+                       std::holds_alternative<ast::RectangleStmt>(s.node) ||
+                       std::holds_alternative<ast::RectBmpStmt>(s.node)) {
+                sink_.error(s.range, fmt::format("not allowed inside function '{}'", def.name),
+                            "a function body holds CONSTANT/VARIABLE definitions, FOR loops and one RETURN");
+            }
+        }
+        if (returns == 0)
+            sink_.error(def.name_range, fmt::format("function '{}' has no RETURN", def.name));
+        scope.define(std::move(b));
+    }
+
+    void lower_statement(const ast::Statement& statement, const ast::ForStmt& loop, Scope& scope) {
+        double from = 0, to = 0, step = 1;
+        bool ok = constant_of(*loop.from, scope, "a FOR bound", from);
+        ok = constant_of(*loop.to, scope, "a FOR bound", to) && ok;
+        if (loop.step) ok = constant_of(*loop.step, scope, "a FOR step", step) && ok;
+        if (!ok) return;
+        if (step == 0) {
+            sink_.error(loop.step->range, "FOR step must not be 0");
+            return;
+        }
+        const double count = std::floor((to - from) / step) + 1;
+        if (count > kMaxLoopIterations) {
+            sink_.error(statement.range,
+                        fmt::format("FOR loop would run {} times (at most {:L} allowed)",
+                                    format_number(count), kMaxLoopIterations));
+            return;
+        }
+        for (double i = from; step > 0 ? i <= to : i >= to; i += step) {
+            Binding index;
+            index.kind = Binding::Kind::Constant;
+            index.name = loop.index;
+            index.where = loop.index_range;
+            index.node = graph_.constant(i);
+            scope.define(std::move(index));
+            lower_block(loop.body, scope);
+            if (too_many_errors()) return;
+        }
+    }
+
+    void lower_statement(const ast::Statement& statement, const ast::IncludeStmt& inc, Scope& scope) {
+        const SourceFile* from = statement.range.file;
+        std::vector<std::filesystem::path> candidates;
+        std::filesystem::path relative(inc.path);
+        if (relative.is_absolute()) {
+            candidates.push_back(relative);
+        } else {
+            if (from) candidates.push_back(std::filesystem::path(from->path()).parent_path() / relative);
+            for (const std::string& dir : options_.include_dirs) candidates.push_back(std::filesystem::path(dir) / relative);
+        }
+        for (const auto& candidate : candidates) {
+            std::error_code ec;
+            if (!std::filesystem::is_regular_file(candidate, ec)) continue;
+            const std::string key = canonical(candidate.string());
+            if (included_.count(key)) return;  // each file once: includes are libraries
+            std::string error;
+            auto source = SourceFile::load(candidate.string(), error);
+            if (!source) {
+                sink_.error(statement.range, fmt::format("cannot include '{}': {}", inc.path, error));
+                return;
+            }
+            included_.insert(key);
+            model_.sources.push_back(source);
+            sink_.retain(source);
+            const int errors_before = sink_.error_count();
+            ast::Script script = parse_script(*source, sink_);
+            if (sink_.error_count() != errors_before) {
+                syntax_errors_ = true;  // stop here, as for the main script
+                return;
+            }
+            included_scripts_.push_back(std::move(script));
+            lower_block(included_scripts_.back().statements, scope);
+            return;
+        }
+        std::string searched;
+        for (const auto& c : candidates) searched += (searched.empty() ? "" : ", ") + c.parent_path().string();
+        sink_.error(statement.range, fmt::format("cannot find '{}' to include", inc.path),
+                    fmt::format("searched: {}", searched.empty() ? "(nowhere)" : searched));
+    }
+
+    // -- expressions --
+
+    /// The array a bare name refers to, or nullptr (nothing reported).
+    const Binding* as_array(const ast::Expr& e, const Scope& scope) {
+        if (e.kind != ast::Expr::Kind::Name) return nullptr;
+        const Binding* b = scope.exact(e.name);
+        if (!b) {
+            std::set<std::string> matches;
+            scope.case_matches(e.name, matches);
+            if (matches.size() == 1) b = resolve(e.name, e.name_range, scope);
+        }
+        return b && b->kind == Binding::Kind::Array ? b : nullptr;
+    }
+
+    /// Lowers `expr` and requires a compile-time number (ranges, sizes, bounds, indices).
+    bool constant_of(const ast::Expr& expr, const Scope& scope, const char* what, double& value) {
+        const int errors = sink_.error_count();
+        NodeId node = lower_expr(expr, scope, Context::Constant);
+        if (sink_.error_count() != errors) return false;
+        if (!graph_.is_constant(node)) {
+            sink_.error(expr.range, fmt::format("{} must be a finite constant", what));
+            return false;
+        }
+        value = graph_.constant_value(node);
+        return true;
+    }
+
+    NodeId lower_expr(const ast::Expr& e, const Scope& scope, Context context) {
+        switch (e.kind) {
+            case ast::Expr::Kind::Number: return graph_.constant(e.number);
+            case ast::Expr::Kind::Name: return lower_name(e, scope, context);
+            case ast::Expr::Kind::Unary: {
+                NodeId a = lower_expr(*e.operands[0], scope, context);
+                return e.unary_op == ast::UnaryOp::Plus ? a : graph_.unary(Op::Neg, a);
+            }
+            case ast::Expr::Kind::Binary: {
+                NodeId a = lower_expr(*e.operands[0], scope, context);
+                NodeId b = lower_expr(*e.operands[1], scope, context);
+                switch (e.binary_op) {
+                    case ast::BinaryOp::Add: return graph_.binary(Op::Add, a, b);
+                    case ast::BinaryOp::Sub: return graph_.binary(Op::Sub, a, b);
+                    case ast::BinaryOp::Mul: return graph_.binary(Op::Mul, a, b);
+                    case ast::BinaryOp::Div: return graph_.binary(Op::Div, a, b);
+                    case ast::BinaryOp::Pow: return graph_.binary(Op::Pow, a, b);
+                    case ast::BinaryOp::RAnd: return graph_.binary(Op::RAnd, a, b, alpha());
+                    case ast::BinaryOp::ROr: return graph_.binary(Op::ROr, a, b, alpha());
+                }
+                return poison();
+            }
+            case ast::Expr::Kind::Call: return lower_call(e, scope, context);
+            case ast::Expr::Kind::Array:
+                sink_.error(e.range, "an array [...] can only be the whole value of a CONSTANT");
+                return poison();
+        }
+        return poison();
+    }
+
+    double alpha() const { return options_.rsystem ? options_.rsystem->alpha : alpha_; }
+
+    NodeId poison() {
+        poisoned_ = true;
+        return graph_.constant(0.0);
+    }
+
+    /// Exact match first; else the one binding that differs only in case (with a note);
+    /// several such bindings are an error. nullptr when nothing matches (nothing reported).
+    const Binding* resolve(const std::string& name, const SourceRange& where, const Scope& scope) {
+        if (const Binding* b = scope.exact(name)) return b;
+        std::set<std::string> matches;
+        scope.case_matches(name, matches);
+        if (matches.empty()) return nullptr;
+        if (matches.size() > 1) {
+            std::string list;
+            for (const std::string& m : matches) list += (list.empty() ? "'" : ", '") + m + "'";
+            sink_.error(where, fmt::format("'{}' is ambiguous: it matches {} (names differ only in case)",
+                                           name, list),
+                        "spell the name exactly as defined");
+            return &ambiguous_;
+        }
+        const std::string& target = *matches.begin();
+        if (noted_.insert(name + '\0' + target).second) {
+            sink_.note(where, fmt::format("'{}' matched '{}' (names match case-insensitively when "
+                                          "nothing matches exactly)", name, target));
+        }
+        return scope.exact(target);
+    }
+
+    NodeId lower_name(const ast::Expr& e, const Scope& scope, Context context) {
+        const Binding* b = resolve(e.name, e.name_range, scope);
+        if (b == &ambiguous_) return poison();
+        if (!b) {
+            if (lower_case(e.name) == "pi") return graph_.constant(M_PI);
+            if (find_builtin(e.name)) {
+                sink_.error(e.name_range,
+                            fmt::format("'{}' is a built-in function; call it as {}(...)", e.name, e.name));
+                return poison();
+            }
+            std::string hint;
+            if (model_.arguments.empty())
+                hint = "no ARGUMENT is declared yet: start the script with ARGUMENT X, Y[, Z];";
+            sink_.error(e.name_range, fmt::format("unknown name '{}'", e.name), hint);
+            return poison();
+        }
+        switch (b->kind) {
+            case Binding::Kind::Argument:
+                if (context == Context::Constant) {
+                    sink_.error(e.name_range,
+                                fmt::format("argument '{}' cannot be used in a CONSTANT", e.name),
+                                "a CONSTANT is a number fixed before evaluation; define it as a VARIABLE");
+                    return poison();
+                }
+                return b->node;
+            case Binding::Kind::Constant:
+                return b->node;
+            case Binding::Kind::Variable:
+                if (context == Context::Constant && !graph_.is_constant(b->node)) {
+                    sink_.error(e.name_range,
+                                fmt::format("variable '{}' varies over the space and cannot be used "
+                                            "in a CONSTANT", e.name),
+                                "define this value as a VARIABLE");
+                    return poison();
+                }
+                return b->node;
+            case Binding::Kind::Array:
+                sink_.error(e.name_range,
+                            fmt::format("'{}' is an array; index it as {}(I) or use SIZE({})",
+                                        e.name, e.name, e.name));
+                return poison();
+            case Binding::Kind::Function:
+                sink_.error(e.name_range,
+                            fmt::format("'{}' is a function; call it as {}(...)", e.name, e.name));
+                return poison();
+        }
+        return poison();
+    }
+
+    NodeId lower_call(const ast::Expr& e, const Scope& scope, Context context) {
+        const int argc = static_cast<int>(e.operands.size());
+        // User definitions first (exact, then case-insensitive), then built-ins.
+        const Binding* b = resolve(e.name, e.name_range, scope);
+        if (b == &ambiguous_) return poison();
+        if (b && b->kind == Binding::Kind::Array) return index_array(e, *b, scope);
+        if (b && b->kind == Binding::Kind::Function) return call_function(e, *b, scope, context);
+        const Builtin* builtin = find_builtin(e.name);
+        if (b && !builtin) {
+            sink_.error(e.name_range,
+                        fmt::format("'{}' is {} {}, not a function or an array", e.name,
+                                    b->kind == Binding::Kind::Argument ? "an" : "a", kind_word(b->kind)));
+            return poison();
+        }
+        if (!builtin) {
+            sink_.error(e.name_range, fmt::format("unknown function '{}'", e.name));
+            return poison();
+        }
+        if (argc < builtin->min_args || (builtin->max_args >= 0 && argc > builtin->max_args)) {
+            std::string expected =
+                builtin->max_args < 0 ? fmt::format("at least {}", plural(builtin->min_args, "argument"))
+                : builtin->min_args == builtin->max_args ? plural(builtin->min_args, "argument")
+                : fmt::format("{} or {} arguments", builtin->min_args, builtin->max_args);
+            sink_.error(e.range, fmt::format("{} takes {}, got {}", builtin->name, expected, argc));
+            return poison();
+        }
+        if (builtin->op == Op::Const) {  // SIZE(array)
+            const ast::Expr& arg = *e.operands[0];
+            const Binding* array = as_array(arg, scope);
+            if (!array) {
+                sink_.error(arg.range, "SIZE takes the name of an array");
+                return poison();
+            }
+            return graph_.constant(static_cast<double>(array->array.size()));
+        }
+        std::vector<NodeId> args;
+        for (const ast::ExprPtr& operand : e.operands) args.push_back(lower_expr(*operand, scope, context));
+        Op op = builtin->op;
+        if (op == Op::Atan && argc == 2) op = Op::Atan2;
+        if (ir::op_arity(op) == 1) return graph_.unary(op, args[0]);
+        if (ir::op_arity(op) == 3) return graph_.make(op, args);
+        const double imm = (ir::op_flags(op) & ir::kROperation) ? alpha() : 0.0;
+        NodeId acc = args[0];
+        for (int i = 1; i < argc; ++i) acc = graph_.binary(op, acc, args[i], imm);
+        return acc;
+    }
+
+    NodeId index_array(const ast::Expr& e, const Binding& array, const Scope& scope) {
+        if (e.operands.size() != 1) {
+            sink_.error(e.range, fmt::format("array '{}' takes one index, got {}", array.name,
+                                             e.operands.size()));
+            return poison();
+        }
+        double index = 0;
+        if (!constant_of(*e.operands[0], scope, "an array index", index)) return poison();
+        const double size = static_cast<double>(array.array.size());
+        if (index != std::floor(index) || index < 1 || index > size) {
+            sink_.error(e.operands[0]->range,
+                        array.array.empty()
+                            ? fmt::format("array '{}' is empty", array.name)
+                            : fmt::format("index {} is out of range for array '{}' (1 to {})",
+                                          format_number(index), array.name, array.array.size()));
+            return poison();
+        }
+        return graph_.constant(array.array[static_cast<std::size_t>(index) - 1]);
+    }
+
+    NodeId call_function(const ast::Expr& e, const Binding& b, const Scope& scope, Context context) {
+        const ast::FunctionDef& def = *b.function;
+        if (e.operands.size() != def.params.size()) {
+            sink_.error(e.range, fmt::format("function '{}' takes {}, got {}", def.name,
+                                             plural(static_cast<int>(def.params.size()), "argument"),
+                                             e.operands.size()));
+            return poison();
+        }
+        if (std::find(active_calls_.begin(), active_calls_.end(), &def) != active_calls_.end()) {
+            sink_.error(e.name_range, fmt::format("function '{}' calls itself", def.name),
+                        "functions are inlined; repeat work with a FOR loop instead");
+            return poison();
+        }
+        Scope local(&scope);
+        for (std::size_t i = 0; i < def.params.size(); ++i) {
+            Binding p;
+            p.kind = Binding::Kind::Variable;
+            p.name = def.params[i];
+            p.where = def.param_ranges[i];
+            if (const Binding* array = as_array(*e.operands[i], scope)) {  // arrays pass whole
+                p.kind = Binding::Kind::Array;
+                p.array = array->array;
+                local.define(std::move(p));
+                continue;
+            }
+            p.node = lower_expr(*e.operands[i], scope, context);
+            if (graph_.is_constant(p.node)) p.kind = Binding::Kind::Constant;
+            local.define(std::move(p));
+        }
+        active_calls_.push_back(&def);
+        ++scope_depth_;
+        NodeId result = poison();
+        for (const ast::Statement& s : def.body) {
+            if (auto* ret = std::get_if<ast::ReturnStmt>(&s.node)) {
+                result = lower_expr(*ret->value, local, context);
+                break;
+            }
+            std::visit([&](const auto& node) { lower_statement(s, node, local); }, s.node);
+        }
+        --scope_depth_;
+        active_calls_.pop_back();
+        return result;
+    }
+
+    // -- the end --
+
+    void finish(const SourceFile& source, const ast::Script& script) {
+        if (model_.arguments.empty()) {
+            sink_.error(script.statements.empty() ? at_start(source) : script.statements.front().range,
+                        "script declares no ARGUMENT",
+                        "declare the coordinates first, e.g. ARGUMENT X, Y;");
+            return;
+        }
+        if (!return_seen_) sink_.error(at_end(source), "script has no RETURN",
+                                       "end the script with RETURN expression;");
+    }
+
+    bool too_many_errors() const { return syntax_errors_ || sink_.error_count() >= kMaxErrors; }
+
+    static SourceRange at_start(const SourceFile& source) { return {&source, {1, 1}, {1, 1}}; }
+    static SourceRange at_end(const SourceFile& source) {
+        int line = std::max(1, source.line_count());
+        while (line > 1 && source.line(line).find_first_not_of(" \t\r") == std::string_view::npos) --line;
+        int col = static_cast<int>(source.line(line).size()) + 1;
+        return {&source, {line, col}, {line, col}};
+    }
+    static std::string canonical(const std::string& path) {
+        std::error_code ec;
+        auto c = std::filesystem::weakly_canonical(path, ec);
+        return ec ? path : c.string();
+    }
+
+    static constexpr int kMaxErrors = 50;
+    static constexpr long kMaxLoopIterations = 1'000'000;
+
+    const CompileOptions& options_;
+    DiagnosticSink& sink_;
+    Model& model_;
+    ir::Graph& graph_;
+    Scope global_;
+    Binding ambiguous_;
+    double alpha_ = 0.0;
+    bool return_seen_ = false;
+    bool warned_after_return_ = false;
+    bool poisoned_ = false;
+    bool syntax_errors_ = false;
+    int scope_depth_ = 0;
+    SourceRange first_return_;
+    std::optional<std::array<double, 4>> rectangle_;
+    std::set<std::string> noted_;
+    std::set<std::string> included_;
+    std::vector<ast::Script> included_scripts_;
+    std::vector<const ast::FunctionDef*> active_calls_;
+};
+
+}  // namespace
+
+std::string RSystem::name() const {
+    if (alpha == 0.0) return "R0";
+    if (alpha == 1.0) return "MINMAX";
+    return fmt::format("ALPHA={}", alpha);
+}
+
+std::optional<RSystem> parse_rsystem(const std::string& text) {
+    const std::string t = lower_case(text);
+    if (t == "r0") return RSystem{0.0};
+    if (t == "minmax" || t == "r1") return RSystem{1.0};
+    if (t.rfind("alpha=", 0) == 0) {
+        try {
+            std::size_t used = 0;
+            double a = std::stod(t.substr(6), &used);
+            if (used == t.size() - 6 && a > -1.0 && a <= 1.0) return RSystem{a};
+        } catch (...) {
+        }
+    }
+    return std::nullopt;
+}
+
+std::optional<Model> compile(std::shared_ptr<const SourceFile> source, const CompileOptions& options,
+                             DiagnosticSink& sink) {
+    Model model;
+    const int errors_before = sink.error_count();
+    {
+        Lowerer lowerer(options, sink, model);
+        lowerer.run(source);
+    }
+    if (sink.error_count() != errors_before || model.root == ir::kNoNode) return std::nullopt;
+    return model;
+}
+
+}  // namespace fortu

@@ -1,0 +1,33 @@
+// interp/lower.hpp — checks a parsed script and lowers it to the IR, in one pass.
+//
+// Why one pass: FORTU's meaning is sequential (each use sees the latest definition before
+// it, spec §2), so name resolution, section rules and lowering all walk the statements in
+// order with the same scope; splitting them would mean building the scope twice. Every
+// definition becomes IR nodes through Graph::make, which shares equal sub-expressions and
+// folds constants, so a variable referenced ten times is still one node.
+#pragma once
+
+#include "grammar/diagnostic.hpp"
+#include "grammar/source.hpp"
+#include "interp/model.hpp"
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace fortu {
+
+struct CompileOptions {
+    /// From the command line; wins over RSYSTEM statements in the script.
+    std::optional<RSystem> rsystem;
+    /// Folders searched by INCLUDE after the script's own folder (the installed stdlib).
+    std::vector<std::string> include_dirs;
+};
+
+/// Parses, checks and lowers a script. Errors, warnings and notes go to `sink`; returns
+/// nullopt when there was any error.
+std::optional<Model> compile(std::shared_ptr<const SourceFile> source,
+                             const CompileOptions& options, DiagnosticSink& sink);
+
+}  // namespace fortu

@@ -1,0 +1,84 @@
+// runtime/exr.cpp — float EXR through OpenImageIO, one part per 3D slice.
+#include "runtime/exr.hpp"
+
+#include "runtime/atomic_file.hpp"
+#include "runtime/fv_model.hpp"
+#include "runtime/oiio_util.hpp"
+#include "runtime/output_error.hpp"
+#include "runtime/output_path.hpp"
+
+#include <OpenImageIO/imageio.h>
+#include <fmt/format.h>
+
+namespace fortu {
+namespace {
+
+std::string domain_text(const Grid& g) {
+    std::string text = fmt::format("{:.17g}:{:.17g},{:.17g}:{:.17g}", g.x.min, g.x.max, g.y.min, g.y.max);
+    if (g.dims == 3) text += fmt::format(",{:.17g}:{:.17g}", g.z.min, g.z.max);
+    return text;
+}
+
+OIIO::ImageSpec slice_spec(const Grid& g, int slice) {
+    const auto names = exr_channel_names(g);
+    OIIO::ImageSpec spec(g.cols(), g.rows(), static_cast<int>(names.size()), OIIO::TypeDesc::FLOAT);
+    spec.channelnames = names;
+    spec.attribute("compression", "zip");
+    spec.attribute("Software", "fortu");
+    spec.attribute("fortu:domain", domain_text(g));
+    if (g.dims == 3) {
+        spec.attribute("oiio:subimagename", fmt::format("z{:04d}", slice));
+        spec.attribute("fortu:z", static_cast<float>(g.z_at(slice)));
+    }
+    return spec;
+}
+
+// value, n1..n_k interleaved per pixel, in image order.
+std::vector<float> slice_pixels(const Field& field, int slice) {
+    const Grid& g = field.grid;
+    const int k = g.dims == 3 ? 5 : 4;
+    std::vector<float> pixels(static_cast<std::size_t>(g.cols()) * g.rows() * (k + 1));
+    float* p = pixels.data();
+    for (int r = 0; r < g.rows(); ++r)
+        for (int c = 0; c < g.cols(); ++c) {
+            *p++ = static_cast<float>(field.values[g.index(c, r, slice)]);
+            const auto n = fv_node(field, c, r, slice);
+            for (int j = 0; j < k; ++j) *p++ = static_cast<float>(n[j]);
+        }
+    return pixels;
+}
+
+void write_parts(const Field& field, const std::string& path, int first, int count) {
+    write_atomically(path, [&](const std::string& temp) {
+        auto out = OIIO::ImageOutput::create(temp);
+        if (!out) throw OutputError(path, oiio_reason(OIIO::geterror(), temp, path));
+        std::vector<OIIO::ImageSpec> specs;
+        for (int s = first; s < first + count; ++s) specs.push_back(slice_spec(field.grid, s));
+        auto fail = [&] { return OutputError(path, oiio_reason(out->geterror(), temp, path)); };
+        if (!out->open(temp, count, specs.data())) throw fail();
+        for (int i = 0; i < count; ++i) {
+            if (i > 0 && !out->open(temp, specs[i], OIIO::ImageOutput::AppendSubimage)) throw fail();
+            const std::vector<float> pixels = slice_pixels(field, first + i);
+            if (!out->write_image(OIIO::TypeDesc::FLOAT, pixels.data())) throw fail();
+        }
+        if (!out->close()) throw fail();
+    });
+}
+
+}  // namespace
+
+std::vector<std::string> exr_channel_names(const Grid& grid) {
+    if (grid.dims == 3) return {"value", "n1", "n2", "n3", "n4", "n5"};
+    return {"value", "n1", "n2", "n3", "n4"};
+}
+
+void write_exr(const Field& field, const std::string& path) {
+    const Grid& g = field.grid;
+    if (g.dims == 3 && is_file_series(path)) {
+        for (int s = 0; s < g.slices(); ++s) write_parts(field, file_series_name(path, s), s, 1);
+        return;
+    }
+    write_parts(field, is_file_series(path) ? file_series_name(path, 0) : path, 0, g.slices());
+}
+
+}  // namespace fortu

@@ -1,0 +1,73 @@
+// runtime/fv_model.hpp — the functional-voxel (FV) model of a sampled Field: at every node
+// the normalised plane (2D: n1..n4) or hyperplane (3D: n1..n5) through the node and its
+// forward neighbours (fv-method.md §1). Its components, palette-encoded, are the M-images.
+#pragma once
+
+#include "runtime/field.hpp"
+#include "runtime/grid.hpp"
+
+#include <array>
+#include <cstddef>
+#include <span>
+#include <vector>
+
+namespace fortu {
+
+/// The normalised plane n1·x + n2·y + n3·z + n4 = 0 through three points {x, y, z}
+/// (fv-method.md §1.1, coefficients by formula 1.1.3, divided by the four-term norm
+/// √(A²+B²+C²+D²)), oriented so that n3 > 0. All NaN if a coordinate is not finite or
+/// the points are collinear (no plane).
+std::array<double, 4> fv_plane(const std::array<double, 3>& p1, const std::array<double, 3>& p2,
+                               const std::array<double, 3>& p3);
+
+/// The normalised hyperplane n1·x + n2·y + n3·z + n4·u + n5 = 0 through four points
+/// {x, y, z, u} (fv-method.md §1.2: cofactor expansion a_x = +M1, a_y = −M2, a_z = +M3,
+/// a_u = −M4, a_0 = +M5, five-term norm), oriented so that n4 > 0 — the coefficient of the
+/// function value is positive, as n3 is in 2D. All NaN if a coordinate is not finite or the
+/// points are degenerate.
+std::array<double, 5> fv_hyperplane(const std::array<double, 4>& p0, const std::array<double, 4>& p1,
+                                    const std::array<double, 4>& p2, const std::array<double, 4>& p3);
+
+/// The local function of one node: 4 components → z = −(n1·x + n2·y + n4)/n3 (fv-method.md
+/// §1.1 item 6); 5 components → u = −(n1·x + n2·y + n3·z + n5)/n4 (§1.2). `z` is ignored
+/// in 2D. NaN for an invalid node.
+double local_value(std::span<const double> n, double x, double y, double z = 0.0);
+
+/// The components of one node of `field`: n1..n4 in 2D (the 5th entry is 0), n1..n5 in 3D.
+/// The stencil is the triangle p, p+e_x, p+e_y (3D: the tetrahedron p, p+e_x, p+e_y, p+e_z)
+/// in world coordinates, e_y pointing to larger Y (row − 1 in image order). At the last
+/// column / top row / last slice the backward neighbour is used instead. An axis with a
+/// single node (a 1-argument model) gets a virtual neighbour one unit away carrying the
+/// node's own value, i.e. the function is taken as constant along that axis. All NaN where
+/// any stencil value is not finite (an invalid point).
+std::array<double, 5> fv_node(const Field& field, int col, int row, int slice = 0);
+
+/// The FV model of a whole Field. Components are stored as double, one contiguous array per
+/// component (one array = one M-image before palette encoding): fv-method.md §1.1 item 7
+/// recommends float or double internally, and double keeps the local function exact at the
+/// stencil vertices (~1e-13) instead of float's ~1e-7. Memory: (dims+2)·8 bytes per node;
+/// writers that stream large 3D grids call fv_node() per slice instead.
+class FvModel {
+public:
+    explicit FvModel(const Field& field);
+
+    const Grid& grid() const { return grid_; }
+    /// n + 2 for an n-argument model: 4 in 2D, 5 in 3D.
+    int components() const { return grid_.dims == 3 ? 5 : 4; }
+    std::size_t nodes() const { return grid_.points(); }
+
+    /// Component n_k (k = 1..components(), as in the spec's n1..n5) of a node in image order.
+    double n(int k, std::size_t node) const { return data_[(k - 1) * nodes() + node]; }
+    /// The whole k-th normalised M-image (k = 1..components()), in image order.
+    std::span<const double> image(int k) const;
+    /// The components n1..n_{components()} of one node.
+    std::array<double, 5> node(std::size_t node) const;
+    /// The value of the node's local function at world point (x, y[, z]).
+    double local_value(std::size_t node, double x, double y, double z = 0.0) const;
+
+private:
+    Grid grid_;
+    std::vector<double> data_;   ///< components() arrays of nodes() values
+};
+
+}  // namespace fortu

@@ -1,0 +1,155 @@
+// runtime/picture.cpp — colour map, contour marking and the 8-bit OpenImageIO writer.
+#include "runtime/picture.hpp"
+
+#include "runtime/atomic_file.hpp"
+#include "runtime/output_path.hpp"
+#include "runtime/oiio_util.hpp"
+#include "runtime/output_error.hpp"
+
+#include <OpenImageIO/imageio.h>
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace fortu {
+namespace {
+
+constexpr std::size_t kScaleSample = 1'000'000;
+
+std::uint8_t blend(std::uint8_t near, std::uint8_t far, double t, double shade) {
+    const double v = (near + (far - near) * t) * shade;
+    return static_cast<std::uint8_t>(std::clamp(std::lround(v), 0L, 255L));
+}
+
+// The 99th percentile of positive magnitudes (0 if there are none).
+double percentile_99(std::vector<double>& magnitudes) {
+    if (magnitudes.empty()) return 0.0;
+    const auto at = magnitudes.begin() + static_cast<std::ptrdiff_t>(0.99 * (magnitudes.size() - 1));
+    std::nth_element(magnitudes.begin(), at, magnitudes.end());
+    return *at;
+}
+
+int sign_of(double v) { return (v > 0.0) - (v < 0.0); }
+
+std::span<const double> slice_values(const Field& field, int slice) {
+    const std::size_t per_slice = static_cast<std::size_t>(field.grid.cols()) * field.grid.rows();
+    return std::span<const double>(field.values).subspan(slice * per_slice, per_slice);
+}
+
+void write_one_slice(const Field& field, int slice, const ColourScale& scale, const std::string& path,
+                     const OutputOptions& options) {
+    const std::vector<Rgb8> pixels = render_slice(field, slice, scale, options);
+    static_assert(sizeof(Rgb8) == 3);
+    const auto* bytes = reinterpret_cast<const std::uint8_t*>(pixels.data());
+    write_image_8bit(path, field.grid.cols(), field.grid.rows(), 3,
+                     std::span<const std::uint8_t>(bytes, pixels.size() * 3), options);
+}
+
+}  // namespace
+
+ColourScale colour_scale(std::span<const double> values) {
+    const std::size_t stride = std::max<std::size_t>(1, values.size() / kScaleSample);
+    std::vector<double> inside, outside;
+    for (std::size_t i = 0; i < values.size(); i += stride) {
+        if (values[i] > 0.0 && std::isfinite(values[i])) inside.push_back(values[i]);
+        if (values[i] < 0.0 && std::isfinite(values[i])) outside.push_back(-values[i]);
+    }
+    const double in = percentile_99(inside), out = percentile_99(outside);
+    const double fallback = in > 0.0 ? in : (out > 0.0 ? out : 1.0);
+    return {in > 0.0 ? in : fallback, out > 0.0 ? out : fallback};
+}
+
+Rgb8 value_colour(double value, const ColourScale& scale, int bands) {
+    if (!std::isfinite(value)) return kInvalidColour;
+    const bool inside = value >= 0.0;
+    const double relative = std::abs(value) / (inside ? scale.inside : scale.outside);
+    const double t = std::min(relative, 1.0);
+    // Bands: a soft dark stripe every 1/bands of the scale, level sets made visible.
+    const double shade =
+        bands > 0 ? 1.0 - 0.15 * (0.5 - 0.5 * std::cos(2.0 * std::numbers::pi * bands * relative)) : 1.0;
+    const Rgb8 near = inside ? kInsideNear : kOutsideNear;
+    const Rgb8 far = inside ? kInsideFar : kOutsideFar;
+    return {blend(near.r, far.r, t, shade), blend(near.g, far.g, t, shade), blend(near.b, far.b, t, shade)};
+}
+
+int picture_slice(const Grid& grid, int requested) {
+    if (grid.dims != 3) return requested <= 0 ? 0 : -1;
+    if (requested == -1) return grid.slices() / 2;
+    return requested >= 0 && requested < grid.slices() ? requested : -1;
+}
+
+namespace {
+/// A red ring of radius ~4 px around each marker, so the point itself stays visible.
+void draw_markers(const Grid& g, const std::vector<std::array<double, 2>>& markers, int cols, int rows,
+                  std::vector<Rgb8>& pixels) {
+    constexpr Rgb8 kMarkerColour{220, 20, 20};
+    const double hx = g.x.step() > 0 ? g.x.step() : 1.0, hy = g.y.step() > 0 ? g.y.step() : 1.0;
+    for (const auto& m : markers) {
+        const double fc = (m[0] - g.x.min) / hx, fr = (g.y.max - m[1]) / hy;
+        if (!(fc > -4 && fc < cols + 4 && fr > -4 && fr < rows + 4)) continue;
+        for (int r = static_cast<int>(fr) - 6; r <= static_cast<int>(fr) + 6; ++r)
+            for (int c = static_cast<int>(fc) - 6; c <= static_cast<int>(fc) + 6; ++c) {
+                const double d = std::hypot(c - fc, r - fr);
+                if (c < 0 || c >= cols || r < 0 || r >= rows || d < 3.0 || d > 4.6) continue;
+                pixels[static_cast<std::size_t>(r) * cols + c] = kMarkerColour;
+            }
+    }
+}
+}  // namespace
+
+std::vector<Rgb8> render_slice(const Field& field, int slice, const ColourScale& scale,
+                               const OutputOptions& options) {
+    const Grid& g = field.grid;
+    const std::span<const double> v = slice_values(field, slice);
+    const int cols = g.cols(), rows = g.rows();
+    std::vector<Rgb8> pixels(v.size());
+    for (int r = 0; r < rows; ++r)
+        for (int c = 0; c < cols; ++c) {
+            const std::size_t i = static_cast<std::size_t>(r) * cols + c;
+            pixels[i] = value_colour(v[i], scale, options.bands);
+            if (!options.draw_contour || !std::isfinite(v[i])) continue;
+            bool contour = v[i] == 0.0;
+            auto crosses = [&](int cc, int rr) {
+                if (cc < 0 || cc >= cols || rr < 0 || rr >= rows) return false;
+                const double w = v[static_cast<std::size_t>(rr) * cols + cc];
+                return std::isfinite(w) && sign_of(w) == -sign_of(v[i]) && std::abs(w) >= std::abs(v[i]);
+            };
+            contour = contour || crosses(c - 1, r) || crosses(c + 1, r) || crosses(c, r - 1) || crosses(c, r + 1);
+            if (contour) pixels[i] = kContourColour;
+        }
+    draw_markers(g, options.markers, cols, rows, pixels);
+    return pixels;
+}
+
+void write_image_8bit(const std::string& path, int cols, int rows, int channels,
+                      std::span<const std::uint8_t> pixels, const OutputOptions& options) {
+    write_atomically(path, [&](const std::string& temp) {
+        auto out = OIIO::ImageOutput::create(temp);
+        if (!out) throw OutputError(path, oiio_reason(OIIO::geterror(), temp, path));
+        OIIO::ImageSpec spec(cols, rows, channels, OIIO::TypeDesc::UINT8);
+        spec.attribute("Software", "fortu");
+        const std::string ext = path_extension(path);
+        if (ext == "jpg" || ext == "jpeg")
+            spec.attribute("Compression", fmt::format("jpeg:{}", std::clamp(options.jpeg_quality, 1, 100)));
+        if (!out->open(temp, spec) || !out->write_image(OIIO::TypeDesc::UINT8, pixels.data()) || !out->close())
+            throw OutputError(path, oiio_reason(out->geterror(), temp, path));
+    });
+}
+
+void write_picture(const Field& field, const std::string& path, const OutputOptions& options) {
+    const Grid& g = field.grid;
+    if (g.dims == 3 && is_file_series(path)) {
+        const ColourScale scale = colour_scale(field.values);
+        for (int s = 0; s < g.slices(); ++s) write_one_slice(field, s, scale, file_series_name(path, s), options);
+        return;
+    }
+    const int slice = picture_slice(g, options.slice);
+    if (slice < 0)
+        throw OutputError(path, fmt::format("slice {} is out of range 0..{}", options.slice, g.slices() - 1));
+    const std::string name = is_file_series(path) ? file_series_name(path, slice) : path;
+    write_one_slice(field, slice, colour_scale(slice_values(field, slice)), name, options);
+}
+
+}  // namespace fortu

@@ -1,0 +1,132 @@
+// tests/unit/cli_run_test.cpp — the command line end to end: usage errors (exit 2) before
+// any work, outputs written in each format, the classic budget, eval and ir output.
+#include "cli_support.hpp"
+
+#include <doctest/doctest.h>
+
+#include <filesystem>
+#include <fstream>
+
+using fortu::test::run_fortu;
+using fortu::test::quote;
+
+namespace {
+
+struct TempDir {
+    std::filesystem::path path;
+    TempDir() {
+        path = std::filesystem::temp_directory_path() /
+               ("fortu_cli_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter()++));
+        std::filesystem::create_directories(path);
+    }
+    ~TempDir() { std::filesystem::remove_all(path); }
+    static int& counter() { static int c = 0; return c; }
+    std::string write(const std::string& name, const std::string& text) const {
+        std::ofstream(path / name, std::ios::binary) << text;
+        return (path / name).string();
+    }
+};
+
+const char* kDisc = "ARGUMENT X, Y;\nRETURN 0.25 - X*X - Y*Y;\n";
+
+}  // namespace
+
+TEST_CASE("usage errors exit 2 with a clear message") {
+    TempDir t;
+    const std::string m = quote(t.write("disc.fortu", kDisc));
+    CHECK(run_fortu("").status == 2);
+    CHECK(run_fortu("").out == "fortu: error: no command given (try 'fortu --help')\n");
+    CHECK(run_fortu("frobnicate x").out == "fortu: error: unknown command 'frobnicate' (try 'fortu --help')\n");
+    CHECK(run_fortu("run " + m + " --size 0").out ==
+          "fortu: error: --size: '0' is not a size (use N, WxH or WxHxD with whole numbers from 1 to 1000000)\n");
+    CHECK(run_fortu("run " + m + " --size 100000x100000").out ==
+          "fortu: error: --size: 100000x100000 is 10,000,000,000 points, more than the 268,435,456 fortu allocates\n");
+    CHECK(run_fortu("run " + m + " --domain nan:1").out == "fortu: error: --domain: 'nan' is not a finite number\n");
+    CHECK(run_fortu("run " + m + " --domain 1:0").out == "fortu: error: --domain: range '1:0' needs MIN < MAX\n");
+    CHECK(run_fortu("run " + m + " --engine turbo").out == "fortu: error: --engine: unknown engine 'turbo' (use voxel or classic)\n");
+    CHECK(run_fortu("run " + m + " --rsystem alpha=3").status == 2);
+    CHECK(run_fortu("run " + m + " -o out.xyz").status == 2);
+    CHECK(run_fortu("run " + m + " --bogus").out == "fortu: error: unknown option '--bogus' (try 'fortu --help')\n");
+    CHECK(run_fortu("run").out == "fortu: error: 'fortu run' needs a MODEL file\n");
+    CHECK(run_fortu("eval " + m + " 1").out == "fortu: error: 'fortu eval' needs MODEL X Y [Z]\n");
+    CHECK(run_fortu("eval " + m + " 1 abc").out == "fortu: error: 'fortu eval': 'abc' is not a finite coordinate\n");
+    CHECK(run_fortu("--help", ".", true).status == 0);
+}
+
+TEST_CASE("an unreadable model is a clear error, exit 1") {
+    TempDir t;
+    auto r = run_fortu("check " + quote((t.path / "missing.fortu").string()));
+    CHECK(r.status == 1);
+    CHECK(r.out.find("fortu: error: cannot read '") == 0);
+    r = run_fortu("check " + quote(t.path.string()));
+    CHECK(r.status == 1);
+}
+
+TEST_CASE("eval prints value, exact gradient and the M-image normal") {
+    TempDir t;
+    const std::string m = quote(t.write("disc.fortu", kDisc));
+    for (const char* engine : {"voxel", "classic"}) {
+        auto r = run_fortu("eval " + m + " 0.1 0.2 --engine " + engine, ".", true);
+        CHECK(r.status == 0);
+        CHECK(r.out.find("value: 0.19999999999999998\n") == 0);
+        CHECK(r.out.find("gradient: -0.2 -0.4\n") != std::string::npos);
+        CHECK(r.out.find("inside: yes\n") != std::string::npos);
+    }
+}
+
+TEST_CASE("run writes every output format, atomically, and reports invalid points") {
+    TempDir t;
+    const std::string m = quote(t.write("disc.fortu", kDisc));
+    for (const char* name : {"out.png", "out.exr", "out.npy", "out.csv", "out.tif"}) {
+        CAPTURE(name);
+        auto r = run_fortu("run " + m + " --size 17 -o " + quote((t.path / name).string()));
+        CHECK(r.status == 0);
+        CHECK(std::filesystem::file_size(t.path / name) > 0);
+    }
+    auto r = run_fortu("run " + m + " --size 17 --mimages " + quote((t.path / "m_%d.png").string()));
+    CHECK(r.status == 0);
+    for (int k = 1; k <= 4; ++k) CHECK(std::filesystem::exists(t.path / ("m_" + std::to_string(k) + ".png")));
+    // only the outputs asked for: no temporaries left behind
+    int files = 0;
+    for (const auto& e : std::filesystem::directory_iterator(t.path)) files += e.is_regular_file();
+    CHECK(files == 1 + 5 + 4);
+
+    const std::string inv = quote(t.write("inv.fortu", "ARGUMENT X, Y;\nRETURN 1/X;\n"));
+    r = run_fortu("run " + inv + " --size 3 -o " + quote((t.path / "inv.png").string()));
+    CHECK(r.status == 0);
+    CHECK(r.out == "fortu: note: 3 invalid points (non-finite values)\n");
+
+    r = run_fortu("run " + m + " --size 5 -o " + quote((t.path / "no_such_dir" / "x.png").string()));
+    CHECK(r.status == 1);
+    CHECK(r.out.find("fortu: error: cannot write '") == 0);
+}
+
+TEST_CASE("the classic engine refuses runs over its budget, with the estimate and a hint") {
+    TempDir t;
+    std::string text = "ARGUMENT X, Y;\nVARIABLE W = X & Y;\n";
+    for (int i = 0; i < 30; ++i) text += "W = W & X;\n";
+    const std::string m = quote(t.write("deep.fortu", text + "RETURN W;\n"));
+    auto r = run_fortu("run " + m + " --engine classic --size 100");
+    CHECK(r.status == 2);
+    CHECK(r.out ==
+          "fortu: error: the classic engine would need 19,327,352,824 operations per point x 10,000 points = "
+          "1.93e+14 operations (budget 2e+10)\n"
+          "note: use --engine voxel (31 operations per point), a smaller --size, a larger --budget, or --force\n");
+    CHECK(run_fortu("run " + m + " --engine voxel --size 100").status == 0);
+    auto ir = run_fortu("ir " + m, ".", true);
+    CHECK(ir.out.find("; classic: 19,327,352,824 operations per point\n") != std::string::npos);
+    CHECK(ir.out.find("; voxel: 31 operations per point\n") != std::string::npos);
+}
+
+TEST_CASE("3D models write a chosen slice or a stack of slices") {
+    TempDir t;
+    const std::string m = quote(t.write("ball.fortu", "ARGUMENT X, Y, Z;\nRETURN 0.5 - X*X - Y*Y - Z*Z;\n"));
+    CHECK(run_fortu("run " + m + " --size 9 --slice 4 -o " + quote((t.path / "s.png").string())).status == 0);
+    CHECK(run_fortu("run " + m + " --size 9 -o " + quote((t.path / "s_%02d.png").string())).status == 0);
+    for (int k = 0; k < 9; ++k) {
+        char name[16];
+        std::snprintf(name, sizeof name, "s_%02d.png", k);
+        CHECK(std::filesystem::exists(t.path / name));
+    }
+    CHECK(run_fortu("run " + m + " --size 9 --slice 9 -o " + quote((t.path / "bad.png").string())).status == 2);
+}

@@ -1,0 +1,36 @@
+// tests/unit/interp_test_support.hpp — compiling model text in tests.
+#pragma once
+
+#include "grammar/diagnostic.hpp"
+#include "interp/engine.hpp"
+#include "interp/lower.hpp"
+
+#include <memory>
+#include <optional>
+#include <string>
+
+namespace fortu::test {
+
+struct Compiled {
+    std::optional<Model> model;
+    DiagnosticSink sink;
+    std::shared_ptr<SourceFile> source;
+};
+
+inline Compiled compile_text(const std::string& text, const CompileOptions& options = {},
+                             const std::string& path = "test.fortu") {
+    Compiled c;
+    c.source = std::make_shared<SourceFile>(path, text);
+    c.model = compile(c.source, options, c.sink);
+    return c;
+}
+
+/// The value of a model at a point with the given engine (the model must compile).
+inline double value_at(const std::string& text, double x = 0, double y = 0, double z = 0,
+                       EngineKind engine = EngineKind::Voxel) {
+    Compiled c = compile_text(text);
+    if (!c.model) throw std::runtime_error(c.sink.render_all());
+    return evaluate_point(*c.model, {x, y, z}, engine).value;
+}
+
+}  // namespace fortu::test

@@ -2,6 +2,7 @@
 // compiles the model through interp/, then evaluates and writes through the engines and
 // runtime/ writers. Exit status: 0 success, 1 model error, 2 usage error.
 #include "cli/cli_options.hpp"
+#include "cli/commands.hpp"
 
 #include "grammar/diagnostic.hpp"
 #include "interp/classic_cost.hpp"
@@ -257,6 +258,13 @@ int main(int argc, char** argv) {
     using namespace fortu;
     std::vector<std::string> args(argv + 1, argv + argc);
     try {
+        // Commands with options of their own parse their own arguments.
+        if (!args.empty()) {
+            const std::vector<std::string> rest(args.begin() + 1, args.end());
+            if (args[0] == "golden") return run_golden_command(rest);
+            if (args[0] == "bench") return run_bench_command(rest);
+            if (args[0] == "repl") return run_repl_command(rest);
+        }
         CliOptions o = parse_command_line(args);
         if (o.command == "help") { std::cout << usage_text(); return 0; }
         if (o.command == "version") { std::cout << "fortu 0.1.0\n"; return 0; }

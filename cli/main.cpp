@@ -9,6 +9,7 @@
 #include "interp/engine.hpp"
 #include "interp/ir_print.hpp"
 #include "interp/lower.hpp"
+#include "interp/singular.hpp"
 #include "runtime/field_stats.hpp"
 #include "runtime/fv_model.hpp"
 #include "runtime/output.hpp"
@@ -192,6 +193,41 @@ int command_eval(const CliOptions& o) {
     return 0;
 }
 
+int command_singular(const CliOptions& o) {
+    double seconds = 0;
+    std::optional<Model> model = load_model(o, false, seconds);
+    if (!model) return kExitModelError;
+    CliOptions search = o;
+    if (search.size.empty()) search.size = {model->dims() == 3 ? 48 : 401};
+    const Grid grid = make_grid(*model, search);
+    const std::vector<SingularPoint> points = find_singular_points(*model, grid);
+    std::cout << fmt::format("{}: {} singular point{} (K = 0 and R = 0) in x [{}, {}], y [{}, {}]{}\n",
+                             o.positional[0], points.size(), points.size() == 1 ? "" : "s", grid.x.min,
+                             grid.x.max, grid.y.min, grid.y.max,
+                             grid.dims == 3 ? fmt::format(", z [{}, {}]", grid.z.min, grid.z.max) : "");
+    for (const SingularPoint& s : points) {
+        if (grid.dims == 3) std::cout << fmt::format("({}, {}, {})", s.point[0], s.point[1], s.point[2]);
+        else std::cout << fmt::format("({}, {})", s.point[0], s.point[1]);
+        std::cout << fmt::format("  corner of {} R-operation{}\n", s.operations, s.operations == 1 ? "" : "s");
+    }
+    if (!o.output.empty()) {
+        OutputOptions out;
+        if (o.slice) out.slice = *o.slice;
+        const Field field = evaluate_grid(*model, grid, EngineKind::Voxel);
+        const int slice = grid.dims == 3 ? (o.slice ? *o.slice : grid.slices() / 2) : 0;
+        for (const SingularPoint& s : points)
+            if (grid.dims == 2 || std::fabs(s.point[2] - grid.z_at(slice)) <= grid.z.step() / 2)
+                out.markers.push_back({s.point[0], s.point[1]});
+        try {
+            write_field(field, o.output, out);
+        } catch (const OutputError& e) {
+            std::cerr << fmt::format("fortu: error: {}\n", e.what());
+            return kExitModelError;
+        }
+    }
+    return 0;
+}
+
 int command_run(const CliOptions& o) {
     double compile_seconds = 0;
     std::optional<Model> model = load_model(o, false, compile_seconds);
@@ -271,6 +307,7 @@ int main(int argc, char** argv) {
         if (o.command == "check") return command_check(o);
         if (o.command == "ir") return command_ir(o);
         if (o.command == "eval") return command_eval(o);
+        if (o.command == "singular") return command_singular(o);
         return command_run(o);
     } catch (const UsageError& e) {
         std::cerr << "fortu: error: " << e.what() << "\n";

@@ -97,7 +97,7 @@ options:
                               invalid points, peak memory
   --threads N                 worker threads (default: all cores)
   --budget OPS                the classic engine refuses runs above OPS operations
-                              (default 2e10, about a minute here); --force runs anyway
+                              (default 1e10, about a minute here); --force runs anyway
   --force                     run the classic engine even above the budget
 
 exit status: 0 success, 1 model error (diagnostics printed), 2 usage error

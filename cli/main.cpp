@@ -264,6 +264,13 @@ int command_run(const CliOptions& o) {
     }
     const double write_seconds = write_clock.seconds();
 
+    if (!o.stats && o.output.empty() && o.mimages.empty() && o.contour.empty()) {
+        std::cout << fmt::format("{} {} with {} in {}: inside {}, boundary {}, outside {}, invalid {}; "
+                                 "values in [{}, {}] (write them with -o FILE)\n",
+                                 o.positional[0], grid_text(grid), engine_name(o.engine),
+                                 format_duration(eval_seconds), stats.positive, stats.zero, stats.negative,
+                                 stats.invalid, stats.min, stats.max);
+    }
     if (o.stats) {
         const IrStats s = ir_stats(*model);
         std::cout << fmt::format(

@@ -242,6 +242,7 @@ int command_run(const CliOptions& o) {
     Stopwatch clock;
     Field field = evaluate_grid(*model, grid, o.engine, eval);
     const double eval_seconds = clock.seconds();
+    const std::size_t eval_peak = peak_rss_bytes();  // before any image writer loads OpenImageIO
     progress.finish();
 
     const FieldStats stats = field_stats(field);
@@ -281,7 +282,7 @@ int command_run(const CliOptions& o) {
             "time: compile {:.3f} s, evaluate {:.3f} s, write {:.3f} s\n"
             "speed: {} points/s\n"
             "values: min {}, max {}, inside {}, boundary {}, outside {}, invalid {}\n"
-            "peak memory: {}\n",
+            "peak memory: {} evaluating, {} in all\n",
             o.positional[0], grid_text(grid), format_operations(double(grid.points())), grid.x.min, grid.x.max,
             grid.y.min, grid.y.max, grid.dims == 3 ? fmt::format(", z [{}, {}]", grid.z.min, grid.z.max) : "",
             s.nodes, s.operations, s.shared, s.reuses, format_operations(s.classic_operations),
@@ -289,7 +290,7 @@ int command_run(const CliOptions& o) {
             compile_seconds, eval_seconds, write_seconds,
             format_operations(eval_seconds > 0 ? double(grid.points()) / eval_seconds : 0.0),
             stats.min, stats.max, stats.positive, stats.zero, stats.negative, stats.invalid,
-            format_bytes(peak_rss_bytes()));
+            format_bytes(eval_peak), format_bytes(peak_rss_bytes()));
     }
     return 0;
 }

@@ -91,9 +91,8 @@ int run_repl_command(const std::vector<std::string>& args) {
         buffer += *line;
         buffer += '\n';
         // A :command is one line; FORTU text may open a FOR or FUNCTION block.
-        if (buffer[buffer.find_first_not_of(" \t")  == std::string::npos ? 0 : buffer.find_first_not_of(" \t")] != ':' &&
-            input_incomplete(buffer))
-            continue;
+        const std::size_t first = buffer.find_first_not_of(" \t");
+        if (first != std::string::npos && buffer[first] != ':' && input_incomplete(buffer)) continue;
         const bool go_on = repl.handle(buffer);
         buffer.clear();
         if (!go_on) break;

@@ -327,10 +327,13 @@ void Repl::size(const std::vector<std::string>& args) {
         if (!n || *n < 2) return error(fmt::format(":size: '{}' is not a node count from 2 to 1000000", p));
         nodes.push_back(*n);
     }
-    double points = 1;
-    for (int i = 0; i < 3; ++i) points *= nodes[std::min<std::size_t>(i, nodes.size() - 1)];
-    if (points > double(kMaxGridPoints)) return error(":size: that is more points than fortu allocates");
+    const std::vector<int> before = session_.size();
     session_.set_size(nodes);
+    if (session_.grid().points() > kMaxGridPoints) {
+        session_.set_size(before);
+        return error(fmt::format(":size: {} is more points than the {} fortu allocates", fmt::join(parts, "x"),
+                                 format_operations(double(kMaxGridPoints))));
+    }
 }
 
 void Repl::time() {

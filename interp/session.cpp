@@ -246,6 +246,7 @@ SubmitResult Session::submit(const std::string& text, const std::string& origin)
                     e.begin = node.name_range.begin;
                     e.end = node.value->range.end;
                     e.keyword = has_keyword ? parsed : section;
+                    e.inferred = !has_keyword;
                     const bool refines = mentions(*node.value, node.name);
                     if (!has_keyword && !refines)
                         for (const Entry& old : entries)
@@ -291,7 +292,17 @@ SubmitResult Session::submit(const std::string& text, const std::string& origin)
 
     std::optional<Model> model;
     SubmitResult r = *try_compile(entries, nullptr, file.get(), model);
-    if (r.kind == Kind::Error) return r;
+    if (r.kind == Kind::Error) {
+        // A bare `D = R - SQRT(X^2 + Y^2)` typed while CONSTANT is in force means a
+        // VARIABLE: in a file it would be an error, at a prompt it is what was meant.
+        bool retry = false;
+        for (Entry& e : entries)
+            if (e.inferred && e.keyword == "CONSTANT") { e.keyword = "VARIABLE"; retry = true; }
+        if (!retry) return r;
+        r = *try_compile(entries, nullptr, file.get(), model);
+        if (r.kind == Kind::Error) return r;
+    }
+    for (Entry& e : entries) e.inferred = false;
     entries_ = std::move(entries);
     section_ = section;
     const bool has_return = std::any_of(entries_.begin(), entries_.end(), [](const Entry& e) { return e.kind == K::Return; });

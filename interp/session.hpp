@@ -103,6 +103,7 @@ private:
         std::string keyword;   ///< put before the slice: CONSTANT, VARIABLE, RETURN or nothing
         std::shared_ptr<const SourceFile> file;
         SourcePos begin, end;  ///< the slice, half-open
+        bool inferred = false; ///< a bare `name = expr` of this input, its section inferred
     };
     struct Assembled;
 

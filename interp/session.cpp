@@ -76,8 +76,15 @@ std::vector<uint64_t> structural_hashes(const ir::Graph& graph, ir::NodeId root)
     if (root == ir::kNoNode) return hashes;
     for (ir::NodeId id : graph.reachable(root)) {
         const ir::Node& n = graph.node(id);
+        std::array<uint64_t, ir::kMaxArity> operands{};
+        const int arity = ir::op_arity(n.op);
+        for (int k = 0; k < arity; ++k) operands[k] = hashes[n.args[k]];
+        // Graph::make orders commutative operands by id, which depends on the graph; order
+        // them by hash instead, so a + b and b + a hash alike in any graph.
+        if ((ir::op_flags(n.op) & ir::kCommutative) && arity == 2 && operands[1] < operands[0])
+            std::swap(operands[0], operands[1]);
         uint64_t h = mix(static_cast<uint64_t>(n.op) + 1, bits_of(n.imm));
-        for (int k = 0; k < ir::op_arity(n.op); ++k) h = mix(h, hashes[n.args[k]]);
+        for (int k = 0; k < arity; ++k) h = mix(h, operands[k]);
         hashes[id] = h;
     }
     return hashes;

@@ -17,6 +17,7 @@
 
 namespace fortu {
 
+/// Where a Repl writes and what it knows of the terminal.
 struct ReplIo {
     std::ostream& out;
     std::ostream& err;
@@ -25,6 +26,7 @@ struct ReplIo {
     std::atomic<bool>* interrupt = nullptr;       ///< set by SIGINT; cancels an evaluation
 };
 
+/// One REPL: the session, the engine and probe point chosen, the last evaluation.
 class Repl {
 public:
     Repl(Session& session, ReplIo io);

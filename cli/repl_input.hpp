@@ -15,6 +15,7 @@ std::string default_history_path();
 /// REPL should read another line before submitting it. Comments are skipped.
 bool input_incomplete(const std::string& text);
 
+/// The source of input lines: libedit on a terminal, std::cin otherwise.
 class LineReader {
 public:
     /// interactive: libedit with `history_path` loaded and appended to ("" for none); else

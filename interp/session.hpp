@@ -54,8 +54,12 @@ struct EvalReport {
     Grid grid;
 };
 
+/// The statements of one REPL session and the model they compile to. Until ARGUMENT is
+/// typed the definitions are checked as if `ARGUMENT X, Y` had been, and until RETURN
+/// against a constant model, so each line gets its diagnostics as it is typed.
 class Session {
 public:
+    /// `include_dirs`: searched by INCLUDE after a loaded file's own folder (the stdlib).
     explicit Session(std::vector<std::string> include_dirs);
 
     /// Parses `text` (from `origin`: `<input>` or a file's path) as FORTU statements, or,

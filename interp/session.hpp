@@ -1,0 +1,138 @@
+// interp/session.hpp — the incremental model behind `fortu repl`: statements typed one at a
+// time accumulate into a script; re-defining a name replaces its definition in place, so
+// everything defined after it from that name follows (spreadsheet-like, issue 6).
+//
+// Why a script and not a live scope: FORTU's meaning is sequential (spec §2), and compile()
+// already checks and lowers a whole script in one pass with hash-consing, so re-lowering the
+// accumulated statements after each change is both exact and cheap (lowering is linear in the
+// text). What is expensive is evaluating grids; the session keeps the grid values of the
+// models it evaluated under the structural hash of their DAG, so an unchanged model (or one
+// changed back) is never evaluated twice, and it reports how many nodes a change left intact.
+#pragma once
+
+#include "grammar/diagnostic.hpp"
+#include "grammar/source.hpp"
+#include "interp/engine.hpp"
+#include "interp/model.hpp"
+
+#include <array>
+#include <cstdint>
+#include <list>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace fortu {
+
+/// What submit() made of one input.
+struct SubmitResult {
+    enum class Kind {
+        Empty,        ///< only blanks or comments
+        Statements,   ///< definitions etc., accepted into the session
+        Expression,   ///< a bare expression: `model` holds it as its RETURN
+        Error,        ///< rejected; the session is unchanged
+    };
+    Kind kind = Kind::Empty;
+    /// Rendered diagnostics (errors when rejected; warnings about the input otherwise),
+    /// located in the text as typed.
+    std::string diagnostics;
+    /// Kind::Expression: the session's definitions with the expression as the model.
+    std::optional<Model> model;
+    /// Kind::Statements: one line per statement, `defined R`, `replaced R`, `model set`...
+    std::vector<std::string> changes;
+};
+
+/// How the last grid evaluation went, for `:time`.
+struct EvalReport {
+    bool reused = false;             ///< the values came from the cache, nothing was evaluated
+    bool cancelled = false;          ///< interrupted (the field is incomplete and not cached)
+    std::size_t nodes = 0;           ///< nodes reachable from the model's root
+    std::size_t unchanged_nodes = 0; ///< of which already in the previously evaluated model
+    double seconds = 0.0;
+    EngineKind engine = EngineKind::Voxel;
+    Grid grid;
+};
+
+/// The statements of one REPL session and the model they compile to. Until ARGUMENT is
+/// typed the definitions are checked as if `ARGUMENT X, Y` had been, and until RETURN
+/// against a constant model, so each line gets its diagnostics as it is typed.
+class Session {
+public:
+    /// `include_dirs`: searched by INCLUDE after a loaded file's own folder (the stdlib).
+    explicit Session(std::vector<std::string> include_dirs);
+
+    /// Parses `text` (from `origin`: `<input>` or a file's path) as FORTU statements, or,
+    /// when it is not statements but parses as one expression, as a bare expression. Accepted
+    /// statements join the session (re-definitions in place); rejected input leaves it as it was.
+    SubmitResult submit(const std::string& text, const std::string& origin);
+
+    /// Forgets every statement and setting.
+    void reset();
+
+    /// True once a RETURN was accepted.
+    bool has_model() const { return model_.has_value(); }
+    const Model& model() const { return *model_; }
+
+    /// `:rsystem`: wins over RSYSTEM statements, as --rsystem does; recompiles.
+    void set_rsystem(std::optional<RSystem> rsystem);
+    const std::optional<RSystem>& rsystem() const { return rsystem_; }
+    /// `:domain`: per axis overrides of the script's ranges (nullopt: the script's).
+    void set_domain(std::array<std::optional<AxisRange>, 3> domain) { domain_ = domain; }
+    /// `:size`: node counts per axis (empty: the script's RECTBMP, else 256² / 64³).
+    void set_size(std::vector<int> size) { size_ = std::move(size); }
+    const std::vector<int>& size() const { return size_; }
+
+    /// The grid `fortu run` would sample the saved script on (domain and size applied).
+    Grid grid() const;
+    /// A grid over the same domain with `cols`×`rows` nodes (3D: the middle Z slice only).
+    Grid grid_with_nodes(int cols, int rows) const;
+
+    /// Samples the model on `grid`, reusing cached values when the model's DAG and the grid
+    /// are unchanged. `report` says what was reused.
+    Field evaluate(const Grid& grid, EngineKind engine, const EvalOptions& options, EvalReport& report);
+
+    /// A valid .fortu script of the session: domain and size as argument ranges and RECTBMP,
+    /// `:rsystem` as RSYSTEM, then the statements in order. `fortu run` on it samples the
+    /// same grid as grid().
+    std::string script() const;
+
+private:
+    /// One accepted statement: where its text is (a slice of what was typed or loaded, so
+    /// diagnostics point there) and the keyword that must precede it when re-assembled.
+    struct Entry {
+        enum class Kind { RSystem, Rectangle, RectBmp, Argument, Definition, Function, Include, For, Return };
+        Kind kind = Kind::Definition;
+        std::string name;      ///< Definition/Function: its name; Include: the path
+        std::string keyword;   ///< put before the slice: CONSTANT, VARIABLE, RETURN or nothing
+        std::shared_ptr<const SourceFile> file;
+        SourcePos begin, end;  ///< the slice, half-open
+        bool inferred = false; ///< a bare `name = expr` of this input, its section inferred
+    };
+    struct Assembled;
+
+    std::optional<SubmitResult> try_compile(const std::vector<Entry>& entries, const Entry* probe,
+                                            const SourceFile* typed, std::optional<Model>& out) const;
+    Assembled assemble(const std::vector<Entry>& entries, const Entry* probe) const;
+
+    std::vector<std::string> include_dirs_;
+    std::vector<Entry> entries_;
+    std::optional<Model> model_;
+    std::optional<RSystem> rsystem_;
+    std::array<std::optional<AxisRange>, 3> domain_;
+    std::vector<int> size_;
+    std::string section_ = "VARIABLE";   ///< the section in force for `name = expr`
+
+    struct CachedField {
+        uint64_t key = 0;
+        Field field;
+    };
+    std::list<CachedField> cache_;              ///< most recent first, a few entries
+    std::vector<uint64_t> last_node_hashes_;    ///< sorted, of the last evaluated model
+};
+
+/// The structural hash of every node reachable from `root` (indexed by node id; 0 for
+/// unreachable ones): equal for equal sub-expressions, whichever graph they live in.
+std::vector<uint64_t> structural_hashes(const ir::Graph& graph, ir::NodeId root);
+
+}  // namespace fortu

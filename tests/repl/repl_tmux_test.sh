@@ -1,0 +1,89 @@
+#!/bin/sh
+# tests/repl/repl_tmux_test.sh FORTU — drives `fortu repl` in a tmux pane (send-keys, then
+# capture-pane) and checks what a user sees: the half-block picture of a disc, a syntax error
+# with its caret, Ctrl-C stopping a long evaluation (not the REPL) and dropping a half-typed
+# line, Ctrl-D quitting, the history file. Exit 0 only if every check passed.
+set -u
+FORTU=${1:?usage: repl_tmux_test.sh PATH/TO/fortu}
+if ! command -v tmux >/dev/null 2>&1; then
+    echo "FAIL: tmux is not installed (apt-get install tmux); the interactive REPL test cannot run"
+    exit 1
+fi
+
+WORK=$(mktemp -d "${TMPDIR:-/tmp}/fortu_repl_tmux.XXXXXX")
+SOCKET="fortu_repl_test_$$"
+T="tmux -L $SOCKET"
+cleanup() { $T kill-server >/dev/null 2>&1; rm -rf "$WORK"; }
+trap cleanup EXIT
+failures=0
+fail() { echo "FAIL: $1"; failures=$((failures + 1)); }
+pass() { echo "ok: $1"; }
+
+# Waits (up to $2 seconds, default 20) until the pane shows text matching the regex $1.
+wait_for() {
+    tries=$(( ${2:-20} * 10 ))
+    while [ "$tries" -gt 0 ]; do
+        if $T capture-pane -p -S -200 -t repl 2>/dev/null | grep -Eq -- "$1"; then return 0; fi
+        sleep 0.1
+        tries=$((tries - 1))
+    done
+    echo "--- pane after waiting for /$1/:"
+    $T capture-pane -p -S -200 -t repl 2>/dev/null | grep -v '^$' | tail -20
+    return 1
+}
+
+mkdir -p "$WORK/home"
+cd "$WORK" || exit 1
+$T new-session -d -s repl -x 100 -y 40 \
+    "env -u NO_COLOR HOME='$WORK/home' TERM=xterm-256color '$FORTU' repl; echo \"repl exited with status \$?\"; sleep 60" || { echo "FAIL: tmux could not start"; exit 1; }
+wait_for '^fortu>' || fail "no prompt"
+
+# A syntax error: reported with the typed line and a caret; the session goes on.
+$T send-keys -t repl 'ARGUMENT X, Y' Enter 'RETURN 0.6 - SQRT(X^2 + Y^2' Enter
+wait_for "<input>:1:28: error: unexpected end of file" && wait_for '^ {27}\^$' \
+    && pass "syntax error with caret" || fail "syntax error not reported with a caret"
+
+# The disc, drawn in truecolour half blocks.
+$T send-keys -t repl 'RETURN 0.6 - SQRT(X^2 + Y^2)' Enter ':show' Enter
+if wait_for 'warm inside, blue outside, black contour'; then
+    $T capture-pane -p -e -t repl > "$WORK/show.txt"
+    blocks=$(grep -c '▀' "$WORK/show.txt")
+    first=$(grep -m1 '▀' "$WORK/show.txt")
+    middle=$(grep '▀' "$WORK/show.txt" | sed -n "$(( (blocks + 1) / 2 ))p")
+    [ "$blocks" -ge 30 ] && pass "half-block picture, $blocks lines" || fail "only $blocks half-block lines"
+    # Outside (deep blue) at the top edge, no inside there; the middle line crosses the disc:
+    # deep orange inside and the black contour.
+    printf '%s' "$first" | grep -q '38;2;47;95;179m' && ! printf '%s' "$first" | grep -q '232;117;26m' \
+        && pass "top edge is outside" || fail "top edge is not outside"
+    printf '%s' "$middle" | grep -q '232;117;26m' && printf '%s' "$middle" | grep -Eq '[34]8;2;0;0;0m' \
+        && pass "middle line crosses the disc and its contour" || fail "no disc in the middle line"
+else
+    fail ":show drew nothing"
+fi
+
+# Ctrl-C stops a long evaluation, not the REPL; no half-written file is left.
+$T send-keys -t repl 'VARIABLE D = 0' Enter 'FOR I = 1, 2000' Enter \
+    'D = D | (0.01 - SQRT((X - I/1000)^2 + Y^2))' Enter 'END FOR' Enter 'RETURN D' Enter \
+    ':size 2000' Enter ':render big.npy' Enter
+sleep 1.5
+$T send-keys -t repl C-c
+wait_for 'fortu: error: interrupted' && pass "Ctrl-C interrupted the evaluation" || fail "Ctrl-C did not interrupt"
+[ ! -e big.npy ] && pass "no file written" || fail "an interrupted :render wrote big.npy"
+$T send-keys -t repl ':eval 0.5 0' Enter
+wait_for '^inside: ' && pass "the session goes on after Ctrl-C" || fail "the session did not survive Ctrl-C"
+
+# Ctrl-C at the prompt drops the half-typed line.
+$T send-keys -t repl 'half typed' C-c
+sleep 0.3
+$T send-keys -t repl ':engine' Enter
+wait_for '^engine: voxel$' && pass "Ctrl-C at the prompt drops the line" || fail "Ctrl-C at the prompt"
+
+# Ctrl-D quits; the history was kept.
+$T send-keys -t repl C-d
+wait_for '^repl exited with status 0$' && pass "Ctrl-D quits" || fail "Ctrl-D did not quit"
+grep -q ':show' "$WORK/home/.fortu_history" 2>/dev/null && pass "history in ~/.fortu_history" \
+    || fail "no history in ~/.fortu_history"
+
+[ "$failures" -eq 0 ] && echo "all repl tmux checks passed" && exit 0
+echo "$failures repl tmux check(s) failed"
+exit 1

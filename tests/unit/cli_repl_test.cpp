@@ -1,0 +1,252 @@
+// tests/unit/cli_repl_test.cpp — `fortu repl` scripted through stdin (not a terminal: no
+// prompt, no colour, deterministic output): a model built in steps, probed, changed and saved,
+// the saved script giving `fortu run` the same image as :render; errors that do not end the
+// session; the ASCII picture of :show. The interactive side is tests/repl/ (tmux).
+#include "cli_support.hpp"
+
+#include <OpenImageIO/imageio.h>
+#include <doctest/doctest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+using fortu::test::quote;
+using fortu::test::run_fortu;
+using fortu::test::run_shell;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct SessionDir {
+    fs::path path;
+    SessionDir() {
+        std::string name = (fs::temp_directory_path() / "fortu_repl_test_XXXXXX").string();
+        REQUIRE(mkdtemp(name.data()) != nullptr);
+        path = name;
+    }
+    ~SessionDir() { fs::remove_all(path); }
+    std::string write(const std::string& name, const std::string& text) const {
+        std::ofstream(path / name, std::ios::binary) << text;
+        return (path / name).string();
+    }
+    std::string read(const std::string& name) const {
+        std::ifstream in(path / name, std::ios::binary);
+        std::stringstream s;
+        s << in.rdbuf();
+        return s.str();
+    }
+    /// `fortu repl ARGS < session.txt` in this folder, HOME pointing here; stdout and stderr.
+    fortu::test::CommandResult repl(const std::string& input, const std::string& args = "") const {
+        write("session.txt", input);
+        return run_shell("cd " + quote(path.string()) + " && HOME=" + quote(path.string()) + " " +
+                         quote(FORTU_BINARY) + " repl " + args + " < session.txt 2>&1");
+    }
+};
+
+std::vector<unsigned char> pixels(const std::string& path) {
+    auto in = OIIO::ImageInput::open(path);
+    REQUIRE_MESSAGE(in, OIIO::geterror());
+    const OIIO::ImageSpec& spec = in->spec();
+    std::vector<unsigned char> p(spec.image_pixels() * spec.nchannels);
+    REQUIRE(in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::UINT8, p.data()));
+    return p;
+}
+
+}  // namespace
+
+TEST_CASE("a scripted session: built in steps, probed, changed, saved; fortu run gives the same image") {
+    SessionDir d;
+    const auto r = d.repl(
+        "ARGUMENT X, Y\n"
+        "CONSTANT R = 0.5\n"
+        "VARIABLE D = R - SQRT(X^2 + Y^2)\n"
+        "VARIABLE B = 0.3 - ABS(X - 0.5)\n"
+        "RETURN D | B\n"
+        ":size 64 48\n"
+        ":eval 0.25 0\n"
+        "D\n"
+        ":render before.png\n"
+        "R = 0.3\n"
+        ":eval 0.25 0\n"
+        "D\n"
+        ":save session.fortu\n"
+        ":render after.png\n"
+        ":quit\n"
+        "this line is never read\n");
+    CHECK(r.status == 0);
+    CHECK(r.out ==
+          "value: 0.5549509756796392\n"
+          "gradient: -0.7844645405527362 0\n"
+          "normal: 0.48367098178501616 0.11737271157899065 0.7014307126275634 -0.5101774037905854\n"
+          "inside: yes\n"
+          "0.25\n"
+          "wrote before.png (64x48)\n"
+          "replaced R\n"
+          "value: 0.1707106781186547\n"
+          "gradient: 0 0\n"
+          "normal: -0.37615228230974446 0.130988311682174 0.9151417240802378 -0.06218639371497618\n"
+          "inside: yes\n"
+          "0.04999999999999999\n"
+          "saved session.fortu\n"
+          "wrote after.png (64x48)\n");
+    CHECK(d.read("session.fortu") ==
+          "// A fortu repl session, saved with :save.\n"
+          "RECTBMP(64, 48)\n"
+          "ARGUMENT X(-1, 1), Y(-1, 1)\n"
+          "CONSTANT R = 0.3\n"
+          "VARIABLE D = R - SQRT(X^2 + Y^2)\n"
+          "VARIABLE B = 0.3 - ABS(X - 0.5)\n"
+          "RETURN D | B\n");
+    const auto run = run_fortu("run session.fortu -o run.png", d.path.string());
+    REQUIRE(run.status == 0);
+    const auto after = pixels((d.path / "after.png").string());
+    CHECK(after.size() == 64u * 48u * 3u);
+    CHECK(pixels((d.path / "run.png").string()) == after);
+    // The new radius did change the picture.
+    CHECK(pixels((d.path / "before.png").string()) != after);
+    // Loaded back, the saved session gives the same values.
+    const auto again = d.repl(":eval 0.25 0\n", "session.fortu");
+    CHECK(again.out == "loaded session.fortu (6 statements)\n"
+                       "value: 0.1707106781186547\n"
+                       "gradient: 0 0\n"
+                       "normal: -0.37615228230974446 0.130988311682174 0.9151417240802378 -0.06218639371497618\n"
+                       "inside: yes\n");
+}
+
+TEST_CASE("errors are file diagnostics of the typed line and the session goes on") {
+    SessionDir d;
+    const auto r = d.repl(
+        ":show\n"
+        "ARGUMENT X, Y\n"
+        "RETURN 0.5 - SQRT(X^2 + Y^2\n"
+        "RETURN 0.5 - SQRT(X^2 + Q)\n"
+        "RETURN 0.5 - SQRT(X^2 + Y^2)\n"
+        ":eval 1\n"
+        ":eval 0 zero\n"
+        ":render out.xyz\n"
+        ":save no/such/dir/x.fortu\n"
+        ":engine turbo\n"
+        ":rsystem alpha=3\n"
+        ":domain 1 0 0 1\n"
+        ":size 0\n"
+        ":frobnicate\n"
+        ":load missing.fortu\n"
+        ":eval 0 0.5\n");
+    CHECK(r.status == 1);   // a scripted session with errors fails, after running to the end
+    CHECK(r.out ==
+          "fortu: error: there is no model yet\n"
+          "note: type RETURN and an expression (after ARGUMENT X, Y and your definitions)\n"
+          "<input>:1:28: error: unexpected end of file, expecting operator, ',' or ')'\n"
+          "RETURN 0.5 - SQRT(X^2 + Y^2\n"
+          "                           ^\n"
+          "<input>:1:18: note: to match this '('\n"
+          "RETURN 0.5 - SQRT(X^2 + Y^2\n"
+          "                 ^\n"
+          "<input>:1:25: error: unknown name 'Q'\n"
+          "RETURN 0.5 - SQRT(X^2 + Q)\n"
+          "                        ^\n"
+          "fortu: error: :eval: the model has 2 argument(s); give 2 coordinate(s)\n"
+          "fortu: error: :eval: 'zero' is not a finite coordinate\n"
+          "fortu: error: :render: cannot write 'out.xyz': the extension is not one of png, jpg, jpeg, tif, tiff, bmp, exr, npy, csv, svg\n"
+          "fortu: error: cannot write 'no/such/dir/x.fortu': directory 'no/such/dir' does not exist\n"
+          "fortu: error: :engine: 'turbo' is not classic or voxel\n"
+          "fortu: error: :rsystem: 'alpha=3' is not r0, minmax, r1 or alpha=A with A in (-1, 1]\n"
+          "fortu: error: :domain: 1 must be less than 0\n"
+          "fortu: error: :size: '0' is not a node count from 2 to 1000000\n"
+          "fortu: error: unknown command ':frobnicate'\n"
+          "note: :help lists the commands\n"
+          "fortu: error: cannot read 'missing.fortu': No such file or directory\n"
+          "value: 0\n"
+          "gradient: 0 -1\n"
+          "normal: 0.005228365101232297 0.666657554670518 0.666657554670518 -0.333328777335259\n"
+          "inside: boundary\n");
+    // Not a terminal: no history file is written.
+    CHECK_FALSE(fs::exists(d.path / ".fortu_history"));
+}
+
+TEST_CASE("blocks over several lines, settings, and a bare expression at the probe point") {
+    SessionDir d;
+    const auto r = d.repl(
+        "ARGUMENT X, Y\n"
+        "FUNCTION BOX(A, B)\n"
+        "  W = A - ABS(X)\n"
+        "  H = B - ABS(Y)\n"
+        "  RETURN W & H\n"
+        "END\n"
+        "VARIABLE S = 0\n"
+        "FOR I = 1, 3\n"
+        "  S = S + I\n"
+        "END FOR\n"
+        "RETURN BOX(0.5, S / 10)\n"
+        ":eval 0.25 0\n"
+        "S\n"
+        ":rsystem minmax\n"
+        ":rsystem\n"
+        "RETURN\n"
+        ":domain 0 2 -1 1\n"
+        ":domain\n"
+        ":size 10x20\n"
+        ":size\n"
+        ":engine classic\n"
+        ":engine\n"
+        "BOX(1, 1) + X\n"
+        ":reset\n"
+        ":domain\n"
+        "S\n");
+    CHECK(r.out ==
+          "value: 0.19999999999999996\n"
+          "gradient: -0.6153846153846154 -0.0769230769230771\n"
+          "normal: 0.5037859903140264 0.06318186452848372 0.8118390183144126 -0.28831430124138985\n"
+          "inside: yes\n"
+          "6\n"
+          "rsystem: MINMAX\n"
+          "<input>:1:7: error: unexpected end of file, expecting expression\n"
+          "RETURN\n"
+          "      ^\n"
+          "domain: x [0, 2], y [-1, 1]\n"
+          "size: 10x20\n"
+          "engine: classic\n"
+          "1\n"
+          "domain: x [-1, 1], y [-1, 1]\n"
+          "<input>:1:1: error: unknown name 'S'\n"
+          "S\n"
+          "^\n");
+}
+
+TEST_CASE(":show without a terminal draws the disc in ASCII, sized to 80x24") {
+    SessionDir d;
+    const auto r = d.repl("ARGUMENT X, Y\nRETURN 0.5 - SQRT(X^2 + Y^2)\n:domain -1 1 -0.5 0.5\n:show\n");
+    CHECK(r.out ==
+          "................................****************................................\n"
+          ".............................***################***.............................\n"
+          "..........................***######################***..........................\n"
+          "........................**############################**........................\n"
+          ".......................**##############################**.......................\n"
+          "......................*##################################*......................\n"
+          ".....................*####################################*.....................\n"
+          "....................**####################################**....................\n"
+          "....................*######################################*....................\n"
+          "....................*######################################*....................\n"
+          "....................*######################################*....................\n"
+          "....................*######################################*....................\n"
+          "....................**####################################**....................\n"
+          ".....................*####################################*.....................\n"
+          "......................*##################################*......................\n"
+          ".......................**##############################**.......................\n"
+          "........................**############################**........................\n"
+          "..........................***######################***..........................\n"
+          ".............................***################***.............................\n"
+          "................................****************................................\n"
+          "x [-1, 1], y [-0.5, 0.5]; # inside, . outside, * contour\n");
+}
+
+TEST_CASE("fortu repl usage errors exit 2") {
+    CHECK(run_fortu("repl a.fortu b.fortu").status == 2);
+    CHECK(run_fortu("repl a.fortu b.fortu").out ==
+          "fortu: error: 'fortu repl' takes one model at most\n"
+          "usage: fortu repl [MODEL.fortu]\n"
+          "  an interactive session: type FORTU statements and :commands (:help lists them)\n");
+    CHECK(run_fortu("repl --frob").out.rfind("fortu: error: 'fortu repl': unknown option '--frob'\n", 0) == 0);
+    CHECK(run_fortu("repl --help", ".", true).status == 0);
+}

@@ -4,7 +4,7 @@
 // session; the ASCII picture of :show. The interactive side is tests/repl/ (tmux).
 #include "cli_support.hpp"
 
-#include <OpenImageIO/imageio.h>
+#include "runtime/image_io.hpp"
 #include <doctest/doctest.h>
 
 #include <filesystem>
@@ -44,13 +44,11 @@ struct SessionDir {
     }
 };
 
-std::vector<unsigned char> pixels(const std::string& path) {
-    auto in = OIIO::ImageInput::open(path);
-    REQUIRE_MESSAGE(in, OIIO::geterror());
-    const OIIO::ImageSpec& spec = in->spec();
-    std::vector<unsigned char> p(spec.image_pixels() * spec.nchannels);
-    REQUIRE(in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::UINT8, p.data()));
-    return p;
+std::vector<float> pixels(const std::string& path) {
+    std::string error;
+    auto image = fortu::read_image(path, error);
+    REQUIRE_MESSAGE(image, error);
+    return image->pixels;
 }
 
 }  // namespace

@@ -230,6 +230,9 @@ private:
             sink_.error(def.value->range,
                         fmt::format("array '{}' must be a CONSTANT", def.name),
                         "arrays hold compile-time numbers: CONSTANT P = [1, 2, 3];");
+            b.array.assign(def.value->operands.size(), 0.0);  // keep indexing quiet: one error
+            scope.define(std::move(b));
+            return;
         }
         // An element that names an array splices it in, so arrays can grow in loops:
         // CONSTANT PX = [PX, X0 + R*COS(T)];
@@ -408,9 +411,13 @@ private:
             return;
         }
         std::string searched;
-        for (const auto& c : candidates) searched += (searched.empty() ? "" : ", ") + c.parent_path().string();
+        for (const auto& c : candidates) {
+            const std::string dir = c.parent_path().empty() ? "." : c.parent_path().string();
+            searched += (searched.empty() ? "" : ", ") + dir;
+        }
         sink_.error(statement.range, fmt::format("cannot find '{}' to include", inc.path),
                     fmt::format("searched: {}", searched.empty() ? "(nowhere)" : searched));
+        syntax_errors_ = true;  // stop: every name the library defines would be reported unknown
     }
 
     // -- expressions --
@@ -430,7 +437,10 @@ private:
     /// Lowers `expr` and requires a compile-time number (ranges, sizes, bounds, indices).
     bool constant_of(const ast::Expr& expr, const Scope& scope, const char* what, double& value) {
         const int errors = sink_.error_count();
+        const char* outer = constant_what_;
+        constant_what_ = what;
         NodeId node = lower_expr(expr, scope, Context::Constant);
+        constant_what_ = outer;
         if (sink_.error_count() != errors) return false;
         if (!graph_.is_constant(node)) {
             sink_.error(expr.range, fmt::format("{} must be a finite constant", what));
@@ -518,6 +528,11 @@ private:
         }
         switch (b->kind) {
             case Binding::Kind::Argument:
+                if (context == Context::Constant && constant_what_) {
+                    sink_.error(e.name_range, fmt::format("{} must be a constant; argument '{}' varies "
+                                                          "from point to point", constant_what_, e.name));
+                    return poison();
+                }
                 if (context == Context::Constant) {
                     sink_.error(e.name_range,
                                 fmt::format("argument '{}' cannot be used in a CONSTANT", e.name),
@@ -528,6 +543,11 @@ private:
             case Binding::Kind::Constant:
                 return b->node;
             case Binding::Kind::Variable:
+                if (context == Context::Constant && constant_what_ && !graph_.is_constant(b->node)) {
+                    sink_.error(e.name_range, fmt::format("{} must be a constant; variable '{}' varies "
+                                                          "from point to point", constant_what_, e.name));
+                    return poison();
+                }
                 if (context == Context::Constant && !graph_.is_constant(b->node)) {
                     sink_.error(e.name_range,
                                 fmt::format("variable '{}' varies over the space and cannot be used "
@@ -605,7 +625,12 @@ private:
         double index = 0;
         if (!constant_of(*e.operands[0], scope, "an array index", index)) return poison();
         const double size = static_cast<double>(array.array.size());
-        if (index != std::floor(index) || index < 1 || index > size) {
+        if (index != std::floor(index)) {
+            sink_.error(e.operands[0]->range, fmt::format("index {} of array '{}' is not a whole number",
+                                                          format_number(index), array.name));
+            return poison();
+        }
+        if (index < 1 || index > size) {
             sink_.error(e.operands[0]->range,
                         array.array.empty()
                             ? fmt::format("array '{}' is empty", array.name)
@@ -702,6 +727,7 @@ private:
     bool warned_after_return_ = false;
     bool poisoned_ = false;
     bool syntax_errors_ = false;
+    const char* constant_what_ = nullptr;  ///< what constant_of is evaluating, for its messages
     int scope_depth_ = 0;
     SourceRange first_return_;
     std::optional<std::array<double, 4>> rectangle_;

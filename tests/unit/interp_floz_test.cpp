@@ -114,7 +114,8 @@ TEST_CASE("FLOZ3 is 0 on its triangle and > 0 off it") {
         }
     }
     for (const auto& v : p) CHECK(std::fabs(at(m, v[0], v[1], v[2])) < 1e-14);
-    CHECK(at(m, 0, 0, 0) > 0);                        // the triangle's plane misses the origin
+    CHECK(std::fabs(at(m, 0, 0, 0)) < 1e-15);         // (1/2)P1 + (1/4)P2 + (1/4)P3
+    CHECK(at(m, 0, 0, 0.5) > 0);
     CHECK(at(m, 3, 0, 3) > 0);                        // in the plane, beyond vertex 1
 }
 
@@ -196,7 +197,8 @@ TEST_CASE("FLOZ_CONTOUR's sign does not depend on the contour's orientation") {
         CAPTURE(p.x);
         CAPTURE(p.y);
         CHECK((at(ccw, p.x, p.y) > 0) == inside_polygon(polygon, p));
-        CHECK(at(cw, p.x, p.y) == doctest::Approx(at(ccw, p.x, p.y)).epsilon(1e-12));
+        // R0 is not associative, so the values differ with the order of the edges; the signs do not
+        CHECK((at(cw, p.x, p.y) > 0) == (at(ccw, p.x, p.y) > 0));
     }
 }
 
@@ -204,10 +206,11 @@ TEST_CASE("FLOZ_CONTOUR's cost stays linear in the number of segments") {
     // A regular N-gon: the voxel engine's operations grow by the same amount per segment.
     auto nodes = [](int n) {
         std::vector<Point2> polygon;
-        for (int k = 0; k < n; ++k) polygon.push_back({0.8 * std::cos(2 * M_PI * k / n), 0.8 * std::sin(2 * M_PI * k / n)});
+        for (int k = 0; k < n; ++k)  // turned by 0.1 so that no coordinate is 0 (folded away)
+            polygon.push_back({0.8 * std::cos(0.1 + 2 * M_PI * k / n), 0.8 * std::sin(0.1 + 2 * M_PI * k / n)});
         return ir_stats(compile_with_stdlib(polygon_script("FLOZ_CONTOUR", polygon))).operations;
     };
     const std::size_t n16 = nodes(16), n32 = nodes(32), n64 = nodes(64);
     CHECK(n64 - n32 == 2 * (n32 - n16));
-    CHECK((n32 - n16) / 16 <= 20);  // nodes per segment: FLOZ2, line side, R0, arg-min
+    CHECK((n32 - n16) / 16 <= 40);  // per segment: FLOZ2, R0, distance, side, arg-min
 }

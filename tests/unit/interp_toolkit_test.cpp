@@ -144,7 +144,7 @@ TEST_CASE("a 1000-step FOR loop unrolls into a chain of 1000 R-operations") {
     // X, Y, the constants I/1000 (1000), Y - I/1000 (1000) and the R0 conjunctions (1000)
     CHECK(stats.nodes == 3002);
     CHECK(stats.operations == 2000);
-    CHECK(stats.depth == 1001);
+    CHECK(stats.depth == 1002);  // 1000 conjunctions, a subtraction, a leaf
     MESSAGE("1000-step FOR loop lowered in ", seconds, " s");  // reported, never asserted
 }
 
@@ -263,6 +263,20 @@ TEST_CASE("FLOZ3_MESH: the 80-triangle sphere is positive inside, zero on the me
     CHECK(at(m, 0.5, -0.3, 0.2) > 0);
     CHECK(at(m, 1.1, 0, 0) < 0);
     CHECK(at(m, 0.7, 0.7, 0.7) < 0);
+    // well inside (below the faces' least distance from the centre, 0.934) or outside the
+    // unit sphere, the nearest-FLOZ3 sign is right
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> coordinate(-1.25, 1.25);
+    int judged = 0, wrong = 0;
+    for (int k = 0; k < 400; ++k) {
+        const double x = coordinate(rng), y = coordinate(rng), z = coordinate(rng);
+        const double r = std::sqrt(x * x + y * y + z * z);
+        if (r > 0.9 && r < 1.01) continue;
+        ++judged;
+        wrong += (at(m, x, y, z) > 0) != (r < 0.9);
+    }
+    CHECK(judged > 300);
+    CHECK(wrong == 0);
     // the icosahedron's vertices (0, ±1, ±T)/|.| lie on the mesh
     const double t = (1 + std::sqrt(5.0)) / 2, s = std::sqrt(1 + t * t);
     CHECK(std::fabs(at(m, 0, 1 / s, t / s)) < 1e-12);

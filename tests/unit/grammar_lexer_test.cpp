@@ -53,6 +53,7 @@ std::string sexpr(const ast::Expr& e) {
         for (const auto& a : e.operands) out << ' ' << sexpr(*a);
         out << ')';
         break;
+    case Kind::String: out << '\'' << e.name << '\''; break;
     case Kind::Array:
         out << '[';
         for (size_t i = 0; i < e.operands.size(); ++i) out << (i ? " " : "") << sexpr(*e.operands[i]);

@@ -56,6 +56,7 @@ std::string sexpr(const ast::Expr& e) {
         for (const auto& a : e.operands) out << ' ' << sexpr(*a);
         out << ')';
         break;
+    case Kind::String: out << '\'' << e.name << '\''; break;
     case Kind::Array:
         out << '[';
         for (size_t i = 0; i < e.operands.size(); ++i) out << (i ? " " : "") << sexpr(*e.operands[i]);
@@ -168,6 +169,7 @@ TEST_CASE("calls, array elements and arrays") {
     CHECK(tree("[0., 1., 1.5]") == "[0 1 1.5]");
     CHECK(tree("[-1, [2]]") == "[(neg 1) [2]]");
     CHECK(tree("F(G(x), -y)^2") == "(^ (F (G x) (neg y)) 2)");
+    CHECK(tree("IMAGE('bumps.png')") == "(IMAGE 'bumps.png')");  // a file name, the one string operand
 }
 
 TEST_CASE("ranges of statements, expressions and names") {

@@ -72,4 +72,10 @@ ExprPtr Expr::make_array(std::vector<ExprPtr> elements, SourceRange range) {
     return expr;
 }
 
+ExprPtr Expr::make_string(std::string text, SourceRange range) {
+    ExprPtr expr = make(Kind::String, range);
+    expr->name = std::move(text);
+    return expr;
+}
+
 }  // namespace fortu::ast

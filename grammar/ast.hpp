@@ -29,6 +29,7 @@ struct Expr {
         Binary,   ///< operands[0] `binary_op` operands[1]
         Call,     ///< `name`(operands...): built-in, user function or array element A(I)
         Array,    ///< [operands...]  (constant arrays, spec §4)
+        String,   ///< 'name': a file name, only as IMAGE('bump.png') / IMAGE_WIDTH('bump.png')
     };
     Kind kind = Kind::Number;
     SourceRange range;               ///< the whole expression
@@ -47,6 +48,7 @@ struct Expr {
     static ExprPtr make_call(std::string name, SourceRange name_range,
                              std::vector<ExprPtr> args, SourceRange range);
     static ExprPtr make_array(std::vector<ExprPtr> elements, SourceRange range);
+    static ExprPtr make_string(std::string text, SourceRange range);
 };
 
 /// Deepest expression nesting the parser accepts; deeper input gets a diagnostic, so no

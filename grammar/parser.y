@@ -304,6 +304,9 @@ expr:
   | "name"                         { $$ = Expr::make_name(std::move($1), @$); }
   | "name" "'('" expr_list "')'"   { $$ = Expr::make_call(std::move($1), @1, std::move($3), @$);
                                      CHECK_DEPTH($$, @2); }
+  | "name" "'('" "string" "')'"    { std::vector<ExprPtr> file;  // IMAGE('bump.png'): a file name
+                                     file.push_back(Expr::make_string(std::move($3), @3));
+                                     $$ = Expr::make_call(std::move($1), @1, std::move(file), @$); }
   | "'['" expr_list "']'"          { $$ = Expr::make_array(std::move($2), @$);
                                      CHECK_DEPTH($$, @1); }
   | "'['" "']'"                    { $$ = Expr::make_array({}, @$); }

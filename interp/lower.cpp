@@ -3,6 +3,7 @@
 
 #include "grammar/ast.hpp"
 #include "grammar/parse.hpp"
+#include "runtime/image_table.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -205,6 +206,11 @@ private:
             define_array(statement, def, scope);
             return;
         }
+        if (def.value && def.value->kind == ast::Expr::Kind::Call && !scope.exact(def.value->name) &&
+            lower_case(def.value->name) == "image") {
+            define_image(def, scope);
+            return;
+        }
         const Context context =
             def.section == ast::Section::Constant ? Context::Constant : Context::Variable;
         NodeId node = lower_expr(*def.value, scope, context);
@@ -230,6 +236,9 @@ private:
             sink_.error(def.value->range,
                         fmt::format("array '{}' must be a CONSTANT", def.name),
                         "arrays hold compile-time numbers: CONSTANT P = [1, 2, 3];");
+            b.array.assign(def.value->operands.size(), 0.0);  // keep indexing quiet: one error
+            scope.define(std::move(b));
+            return;
         }
         // An element that names an array splices it in, so arrays can grow in loops:
         // CONSTANT PX = [PX, X0 + R*COS(T)];
@@ -243,6 +252,50 @@ private:
             b.array.push_back(v);
         }
         scope.define(std::move(b));
+    }
+
+    /// CONSTANT T = IMAGE('bump.png'): a picture's grey levels as an array, row after row
+    /// from the top (a height map for stdlib/perturb.fortu, fv-method.md §5.2).
+    void define_image(const ast::Definition& def, Scope& scope) {
+        Binding b;
+        b.kind = Binding::Kind::Array;
+        b.name = def.name;
+        b.where = def.name_range;
+        if (def.section != ast::Section::Constant) {
+            sink_.error(def.value->range, fmt::format("array '{}' must be a CONSTANT", def.name),
+                        "an image is read once, before evaluation: CONSTANT T = IMAGE('bump.png');");
+        } else if (std::optional<ImageTable> table = read_image_argument(*def.value)) {
+            b.array = std::move(table->values);
+        }
+        scope.define(std::move(b));
+    }
+
+    /// The table of IMAGE('file') / IMAGE_WIDTH('file'), the file found next to the script.
+    std::optional<ImageTable> read_image_argument(const ast::Expr& call) {
+        if (call.operands.size() != 1 || call.operands[0]->kind != ast::Expr::Kind::String) {
+            sink_.error(call.range, fmt::format("{} takes one file name in quotes, e.g. {}('bump.png')",
+                                                call.name, call.name));
+            return std::nullopt;
+        }
+        const ast::Expr& file = *call.operands[0];
+        std::filesystem::path path(file.name);
+        if (path.is_relative() && file.range.file)
+            path = std::filesystem::path(file.range.file->path()).parent_path() / path;
+        std::string error;
+        std::optional<ImageTable> table = read_image_table(path.string(), error);
+        if (!table) {
+            sink_.error(file.range, fmt::format("cannot read image '{}': {}", file.name, error));
+            syntax_errors_ = true;  // stop: every use of the table would fail after this
+            return std::nullopt;
+        }
+        if (table->values.size() > kMaxImageNodes) {
+            sink_.error(file.range, fmt::format("image '{}' is {}x{}: at most {:L} pixels", file.name,
+                                                table->width, table->height, kMaxImageNodes),
+                        "a height map costs a few operations per pixel at every point; scale it down");
+            syntax_errors_ = true;
+            return std::nullopt;
+        }
+        return table;
     }
 
     void lower_statement(const ast::Statement& statement, const ast::ReturnStmt& stmt, Scope& scope) {
@@ -408,9 +461,13 @@ private:
             return;
         }
         std::string searched;
-        for (const auto& c : candidates) searched += (searched.empty() ? "" : ", ") + c.parent_path().string();
+        for (const auto& c : candidates) {
+            const std::string dir = c.parent_path().empty() ? "." : c.parent_path().string();
+            searched += (searched.empty() ? "" : ", ") + dir;
+        }
         sink_.error(statement.range, fmt::format("cannot find '{}' to include", inc.path),
                     fmt::format("searched: {}", searched.empty() ? "(nowhere)" : searched));
+        syntax_errors_ = true;  // stop: every name the library defines would be reported unknown
     }
 
     // -- expressions --
@@ -430,7 +487,10 @@ private:
     /// Lowers `expr` and requires a compile-time number (ranges, sizes, bounds, indices).
     bool constant_of(const ast::Expr& expr, const Scope& scope, const char* what, double& value) {
         const int errors = sink_.error_count();
+        const char* outer = constant_what_;
+        constant_what_ = what;
         NodeId node = lower_expr(expr, scope, Context::Constant);
+        constant_what_ = outer;
         if (sink_.error_count() != errors) return false;
         if (!graph_.is_constant(node)) {
             sink_.error(expr.range, fmt::format("{} must be a finite constant", what));
@@ -463,6 +523,10 @@ private:
                 return poison();
             }
             case ast::Expr::Kind::Call: return lower_call(e, scope, context);
+            case ast::Expr::Kind::String:
+                sink_.error(e.range, "a quoted name is not a number",
+                            "quotes name files: INCLUDE 'lib.fortu', IMAGE('bump.png'), IMAGE_WIDTH('bump.png')");
+                return poison();
             case ast::Expr::Kind::Array:
                 sink_.error(e.range, "an array [...] can only be the whole value of a CONSTANT");
                 return poison();
@@ -518,6 +582,11 @@ private:
         }
         switch (b->kind) {
             case Binding::Kind::Argument:
+                if (context == Context::Constant && constant_what_) {
+                    sink_.error(e.name_range, fmt::format("{} must be a constant; argument '{}' varies "
+                                                          "from point to point", constant_what_, e.name));
+                    return poison();
+                }
                 if (context == Context::Constant) {
                     sink_.error(e.name_range,
                                 fmt::format("argument '{}' cannot be used in a CONSTANT", e.name),
@@ -528,6 +597,11 @@ private:
             case Binding::Kind::Constant:
                 return b->node;
             case Binding::Kind::Variable:
+                if (context == Context::Constant && constant_what_ && !graph_.is_constant(b->node)) {
+                    sink_.error(e.name_range, fmt::format("{} must be a constant; variable '{}' varies "
+                                                          "from point to point", constant_what_, e.name));
+                    return poison();
+                }
                 if (context == Context::Constant && !graph_.is_constant(b->node)) {
                     sink_.error(e.name_range,
                                 fmt::format("variable '{}' varies over the space and cannot be used "
@@ -556,6 +630,16 @@ private:
         if (b == &ambiguous_) return poison();
         if (b && b->kind == Binding::Kind::Array) return index_array(e, *b, scope);
         if (b && b->kind == Binding::Kind::Function) return call_function(e, *b, scope, context);
+        if (!b && (lower_case(e.name) == "image_width" || lower_case(e.name) == "image_height")) {
+            const std::optional<ImageTable> table = read_image_argument(e);
+            if (!table) return poison();
+            return graph_.constant(lower_case(e.name) == "image_width" ? table->width : table->height);
+        }
+        if (!b && lower_case(e.name) == "image") {
+            sink_.error(e.range, "IMAGE('...') is a whole table, not a number",
+                        "define it as CONSTANT T = IMAGE('bump.png'); and use T(I) or BILINEAR");
+            return poison();
+        }
         const Builtin* builtin = find_builtin(e.name);
         if (b && !builtin) {
             sink_.error(e.name_range,
@@ -605,7 +689,12 @@ private:
         double index = 0;
         if (!constant_of(*e.operands[0], scope, "an array index", index)) return poison();
         const double size = static_cast<double>(array.array.size());
-        if (index != std::floor(index) || index < 1 || index > size) {
+        if (index != std::floor(index)) {
+            sink_.error(e.operands[0]->range, fmt::format("index {} of array '{}' is not a whole number",
+                                                          format_number(index), array.name));
+            return poison();
+        }
+        if (index < 1 || index > size) {
             sink_.error(e.operands[0]->range,
                         array.array.empty()
                             ? fmt::format("array '{}' is empty", array.name)
@@ -689,6 +778,7 @@ private:
     }
 
     static constexpr int kMaxErrors = 50;
+    static constexpr std::size_t kMaxImageNodes = 128 * 128;   ///< height-map pixels (BILINEAR sums them all)
     static constexpr long kMaxLoopIterations = 1'000'000;
 
     const CompileOptions& options_;
@@ -702,6 +792,7 @@ private:
     bool warned_after_return_ = false;
     bool poisoned_ = false;
     bool syntax_errors_ = false;
+    const char* constant_what_ = nullptr;  ///< what constant_of is evaluating, for its messages
     int scope_depth_ = 0;
     SourceRange first_return_;
     std::optional<std::array<double, 4>> rectangle_;

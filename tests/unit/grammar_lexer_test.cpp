@@ -1,6 +1,6 @@
 // tests/unit/grammar_lexer_test.cpp — lexical rules of spec §1 seen through parse_script():
 // numbers, keywords, comments, stray bytes, and when a newline ends a statement.
-#include "grammar/parse.hpp"
+#include "grammar_test_support.hpp"
 
 #include <doctest/doctest.h>
 
@@ -12,55 +12,12 @@
 #include <variant>
 
 using namespace fortu;
+using fortu::test::Parsed;
+using fortu::test::parse;
+using fortu::test::sexpr;
 
 namespace {
 
-struct Parsed {
-    std::unique_ptr<SourceFile> file;   // the AST points into it
-    DiagnosticSink sink;
-    ast::Script script;
-
-    std::string errors() const { return sink.render_all(); }
-};
-
-Parsed parse(const std::string& text) {
-    Parsed parsed;
-    parsed.file = std::make_unique<SourceFile>("t.fortu", text);
-    parsed.script = parse_script(*parsed.file, parsed.sink);
-    return parsed;
-}
-
-std::string sexpr(const ast::Expr& e) {
-    using Kind = ast::Expr::Kind;
-    std::ostringstream out;
-    switch (e.kind) {
-    case Kind::Number: out << e.number; break;
-    case Kind::Name: out << e.name; break;
-    case Kind::Unary: {
-        const char* op = e.unary_op == ast::UnaryOp::Negate ? "neg"
-                         : e.unary_op == ast::UnaryOp::Plus ? "pos" : "rnot";
-        out << '(' << op << ' ' << sexpr(*e.operands[0]) << ')';
-        break;
-    }
-    case Kind::Binary: {
-        static const char* const ops[] = {"+", "-", "*", "/", "^", "&", "|"};
-        out << '(' << ops[static_cast<int>(e.binary_op)] << ' ' << sexpr(*e.operands[0]) << ' '
-            << sexpr(*e.operands[1]) << ')';
-        break;
-    }
-    case Kind::Call:
-        out << '(' << e.name;
-        for (const auto& a : e.operands) out << ' ' << sexpr(*a);
-        out << ')';
-        break;
-    case Kind::Array:
-        out << '[';
-        for (size_t i = 0; i < e.operands.size(); ++i) out << (i ? " " : "") << sexpr(*e.operands[i]);
-        out << ']';
-        break;
-    }
-    return out.str();
-}
 
 // One line per statement: "const X = 1", "var W = (+ a b)", "return w", ...
 std::string dump(const ast::Script& script) {

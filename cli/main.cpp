@@ -30,17 +30,6 @@ namespace {
 constexpr int kExitModelError = 1;
 constexpr int kExitUsage = 2;
 
-/// The installed stdlib: `stdlib/` next to the binary, then the source tree's.
-std::vector<std::string> stdlib_dirs() {
-    std::vector<std::string> dirs;
-    std::error_code ec;
-    auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-    if (!ec) {
-        dirs.push_back((exe.parent_path() / "stdlib").string());
-        dirs.push_back((exe.parent_path().parent_path() / "stdlib").string());
-    }
-    return dirs;
-}
 
 struct Loaded {
     std::optional<Model> model;
@@ -59,7 +48,7 @@ std::optional<Model> load_model(const CliOptions& o, bool show_notes, double& se
     DiagnosticSink sink;
     CompileOptions options;
     options.rsystem = o.rsystem;
-    options.include_dirs = stdlib_dirs();
+    options.include_dirs = installed_stdlib_dirs();
     std::optional<Model> model = compile(source, options, sink);
     for (const Diagnostic& d : sink.diagnostics())
         if (d.severity != Severity::Note || show_notes) std::cerr << render(d);

@@ -2,6 +2,7 @@
 // the process (SIGINT, the terminal, the history file); what an input does is repl_commands.
 // On a terminal: prompts, line editing, colour. Otherwise: plain lines in, plain text out.
 #include "cli/commands.hpp"
+#include "interp/lower.hpp"
 #include "cli/repl_commands.hpp"
 #include "cli/repl_input.hpp"
 
@@ -26,16 +27,6 @@ constexpr const char* kUsage =
     "  an interactive session: type FORTU statements and :commands (:help lists them)\n";
 
 /// The installed stdlib folders, as for `fortu run` (INCLUDE search path).
-std::vector<std::string> stdlib_dirs() {
-    std::vector<std::string> dirs;
-    std::error_code ec;
-    auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-    if (!ec) {
-        dirs.push_back((exe.parent_path() / "stdlib").string());
-        dirs.push_back((exe.parent_path().parent_path() / "stdlib").string());
-    }
-    return dirs;
-}
 
 std::pair<int, int> terminal_size() {
     winsize ws{};
@@ -70,7 +61,7 @@ int run_repl_command(const std::vector<std::string>& args) {
         sigaction(SIGINT, &action, nullptr);
     }
 
-    Session session(stdlib_dirs());
+    Session session(installed_stdlib_dirs());
     Repl repl(session, ReplIo{std::cout, std::cerr, colour_wanted(), terminal_size, &g_interrupted});
     LineReader reader(interactive, interactive ? default_history_path() : std::string());
     if (interactive) std::cout << "fortu repl: type FORTU statements or :help; Ctrl-D quits\n";

@@ -25,6 +25,10 @@ struct CompileOptions {
     std::vector<std::string> include_dirs;
 };
 
+/// The installed stdlib folders: `stdlib/` next to the running binary, then one level up
+/// (the binary in a build tree's subfolder).
+std::vector<std::string> installed_stdlib_dirs();
+
 /// Parses, checks and lowers a script. Errors, warnings and notes go to `sink`; returns
 /// nullopt when there was any error.
 std::optional<Model> compile(std::shared_ptr<const SourceFile> source,

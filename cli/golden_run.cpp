@@ -24,6 +24,7 @@
 #include <fstream>
 #include <iterator>
 #include <map>
+#include <span>
 
 namespace fortu {
 namespace {
@@ -199,12 +200,18 @@ private:
     void fail(std::string message) { failures_.push_back(std::move(message)); }
     bool check_errors(const DiagnosticSink& sink);
     bool classic_allowed(const Model& model, double points);
-    void check_points(const Model& model, EngineKind engine);
-    void check_files(const Model& model, const Grid& grid, EngineKind engine, bool first_engine);
-    void check_file(const Field& field, const std::string& kind, EngineKind engine, bool first_engine);
+    void check_points(const Model& model, const std::vector<EngineKind>& engines);
+    void check_point(const PointExpectation& e, double v, const std::string& label);
+    void check_files(const Model& model, const Grid& grid, const std::vector<EngineKind>& engines);
+    void check_file(const Field& field, const std::string& kind, const std::string& label, bool first_engine);
     std::string expected_path(const std::string& kind) const { return test_.expected_stem + ".expected." + kind; }
     std::string beside(const std::string& what, const std::string& kind) const {
         return test_.expected_stem + "." + what + "." + kind;
+    }
+    /// Where a failure's picture of the difference goes: NAME.diff.png|exr for images,
+    /// NAME.values-diff.png for .npy values.
+    std::string diff_path(const std::string& kind) const {
+        return kind == "npy" ? beside("values-diff", "png") : beside("diff", kind);
     }
     void updated(std::string what) { updates_.push_back(std::move(what)); }
 
@@ -255,7 +262,19 @@ bool TestRun::classic_allowed(const Model& model, double points) {
     return false;
 }
 
-void TestRun::check_points(const Model& model, EngineKind engine) {
+/// The engines' values agree (NaN with NaN): then one check speaks for all of them.
+bool same_values(std::span<const double> a, std::span<const double> b) {
+    if (a.size() != b.size()) return false;
+    for (std::size_t i = 0; i < a.size(); ++i)
+        if (!(a[i] == b[i] || (std::isnan(a[i]) && std::isnan(b[i])))) return false;
+    return true;
+}
+
+std::string engines_label(const std::vector<EngineKind>& engines) {
+    return engines.size() > 1 ? "both engines" : engine_name(engines[0]);
+}
+
+void TestRun::check_points(const Model& model, const std::vector<EngineKind>& engines) {
     for (const PointExpectation& e : test_.points) {
         if (e.point.size() != model.arguments.size()) {
             fail(fmt::format("line {}: {} gives {} coordinate(s); the model has {} argument(s)", e.line,
@@ -264,38 +283,48 @@ void TestRun::check_points(const Model& model, EngineKind engine) {
         }
         std::array<double, 3> p{0, 0, 0};
         for (std::size_t i = 0; i < e.point.size(); ++i) p[i] = e.point[i];
-        const double v = evaluate_point(model, p, engine).value;
-        bool ok;
-        std::string wanted;
-        if (e.kind == PointExpectation::Kind::Value) {
-            const double tol = e.tolerance.value_or(test_.tolerance);
-            ok = std::isnan(e.value) ? std::isnan(v)
-                 : std::isinf(e.value) ? v == e.value
-                                       : std::isfinite(v) && std::fabs(v - e.value) <= tol;
-            wanted = fmt::format("{} +- {}", e.value, tol);
+        std::vector<double> values;
+        for (EngineKind engine : engines) values.push_back(evaluate_point(model, p, engine).value);
+        if (same_values(values, std::vector<double>(values.size(), values[0]))) {
+            check_point(e, values[0], engines_label(engines));
         } else {
-            ok = std::isfinite(v) && kind_of_value(v) == e.kind;
-            wanted = e.kind == PointExpectation::Kind::Inside ? "inside (> 0)"
-                     : e.kind == PointExpectation::Kind::Outside ? "outside (< 0)" : "on the boundary (= 0)";
+            for (std::size_t i = 0; i < engines.size(); ++i) check_point(e, values[i], engine_name(engines[i]));
         }
-        if (ok) continue;
-        if (options_.update && !script_edits_.count(e.line) && std::isfinite(v)) {
-            const std::string& line = script_lines_[e.line - 1];
-            const bool value = e.kind == PointExpectation::Kind::Value;
-            script_edits_[e.line] = edited_directive(line, keyword_of(e.kind), value ? "expect-value" : keyword_of(kind_of_value(v)),
-                                                     value ? std::optional<double>(v) : std::nullopt);
-            updated(fmt::format("line {}", e.line));
-            continue;
-        }
-        if (script_edits_.count(e.line)) continue;  // already rewritten from the first engine
-        fail(fmt::format("line {}: {} {} ({}): expected {}, got {}", e.line, keyword_of(e.kind),
-                         coordinates_text(e.point), engine_name(engine), wanted, v));
     }
 }
 
-void TestRun::check_file(const Field& field, const std::string& kind, EngineKind engine, bool first_engine) {
+void TestRun::check_point(const PointExpectation& e, double v, const std::string& label) {
+    bool ok;
+    std::string wanted;
+    if (e.kind == PointExpectation::Kind::Value) {
+        const double tol = e.tolerance.value_or(test_.tolerance);
+        ok = std::isnan(e.value) ? std::isnan(v)
+             : std::isinf(e.value) ? v == e.value
+                                   : std::isfinite(v) && std::fabs(v - e.value) <= tol;
+        wanted = fmt::format("{} +- {}", e.value, tol);
+    } else {
+        ok = std::isfinite(v) && kind_of_value(v) == e.kind;
+        wanted = e.kind == PointExpectation::Kind::Inside ? "inside (> 0)"
+                 : e.kind == PointExpectation::Kind::Outside ? "outside (< 0)" : "on the boundary (= 0)";
+    }
+    if (ok) return;
+    if (options_.update && std::isfinite(v)) {
+        if (script_edits_.count(e.line)) return;  // already rewritten from the first engine
+        const bool value = e.kind == PointExpectation::Kind::Value;
+        script_edits_[e.line] =
+            edited_directive(script_lines_[e.line - 1], keyword_of(e.kind),
+                             value ? "expect-value" : keyword_of(kind_of_value(v)),
+                             value ? std::optional<double>(v) : std::nullopt);
+        updated(fmt::format("line {}", e.line));
+        return;
+    }
+    fail(fmt::format("line {}: {} {} ({}): expected {}, got {}", e.line, keyword_of(e.kind),
+                     coordinates_text(e.point), label, wanted, v));
+}
+
+void TestRun::check_file(const Field& field, const std::string& kind, const std::string& label, bool first_engine) {
     const std::string expected = expected_path(kind);
-    const std::string actual = (fs::path(temp_.path()) / fmt::format("{}.{}", engine_name(engine), kind)).string();
+    const std::string actual = (fs::path(temp_.path()) / fmt::format("{}.{}", first_engine ? 1 : 2, kind)).string();
     OutputOptions out;
     const bool exists = fs::exists(expected);
     auto write_actual = [&](const std::string& path) -> std::string {
@@ -311,8 +340,12 @@ void TestRun::check_file(const Field& field, const std::string& kind, EngineKind
 
     std::string difference;
     int diff_subimage = -1;
+    if (!exists && !options_.update) {
+        if (first_engine) fail(fmt::format("{} is missing (run with --update to create it)", expected));
+        return;
+    }
     if (!exists) {
-        difference = fmt::format("{} is missing (run with --update to create it)", expected);
+        difference = "missing";
     } else if (kind == "npy") {
         difference = compare_npy(expected, field, test_.tolerance).difference;
     } else if (kind == "csv" || kind == "svg") {
@@ -341,7 +374,7 @@ void TestRun::check_file(const Field& field, const std::string& kind, EngineKind
         // A pass clears what an earlier failure left beside the test.
         if (first_engine) {
             fs::remove(beside("actual", kind), ec);
-            fs::remove(beside("diff", kind == "png" || kind == "exr" ? kind : "png"), ec);
+            fs::remove(diff_path(kind), ec);
         }
         return;
     }
@@ -350,11 +383,11 @@ void TestRun::check_file(const Field& field, const std::string& kind, EngineKind
         if (std::string e = write_actual(expected); !e.empty()) return fail(e);
         return updated(fs::path(expected).filename().string());
     }
-    std::string message = fmt::format("{} ({}): {}", fs::path(expected).filename().string(), engine_name(engine), difference);
+    std::string message = fmt::format("{} ({}): {}", fs::path(expected).filename().string(), label, difference);
     if (std::string e = write_actual(beside("actual", kind)); e.empty())
         message += fmt::format("\n  new output: {}", beside("actual", kind));
     if (diff_subimage >= 0) {
-        const std::string diff = beside("diff", kind);
+        const std::string diff = diff_path(kind);
         if (std::string e = write_diff_image(expected, actual, diff_subimage, diff); e.empty())
             message += fmt::format("\n  diff image: {}", diff);
         else
@@ -368,10 +401,9 @@ void TestRun::check_file(const Field& field, const std::string& kind, EngineKind
                 diff.values[i] = std::fabs((*reference)[i] - field.values[i]);
             OutputOptions picture;
             picture.draw_contour = false;
-            const std::string diff_path = beside("diff", "png");
             try {
-                write_field(diff, diff_path, picture);
-                message += fmt::format("\n  diff image: {}", diff_path);
+                write_field(diff, diff_path(kind), picture);
+                message += fmt::format("\n  diff image: {}", diff_path(kind));
             } catch (const OutputError& e) {
                 message += fmt::format("\n  no diff image: {}", e.what());
             }
@@ -380,13 +412,22 @@ void TestRun::check_file(const Field& field, const std::string& kind, EngineKind
     fail(message);
 }
 
-void TestRun::check_files(const Model& model, const Grid& grid, EngineKind engine, bool first_engine) {
+void TestRun::check_files(const Model& model, const Grid& grid, const std::vector<EngineKind>& engines) {
     if (kinds_.empty()) return;
-    if (engine == EngineKind::Classic && !classic_allowed(model, double(grid.points()))) return;
+    std::vector<EngineKind> ran;
+    std::vector<Field> fields;
     EvalOptions eval;
     eval.threads = options_.eval_threads;
-    const Field field = evaluate_grid(model, grid, engine, eval);
-    for (const std::string& kind : kinds_) check_file(field, kind, engine, first_engine);
+    for (EngineKind engine : engines) {
+        if (engine == EngineKind::Classic && !classic_allowed(model, double(grid.points()))) continue;
+        ran.push_back(engine);
+        fields.push_back(evaluate_grid(model, grid, engine, eval));
+    }
+    if (fields.empty()) return;
+    if (fields.size() == 2 && same_values(fields[0].values, fields[1].values)) fields.pop_back();
+    for (std::size_t i = 0; i < fields.size(); ++i)
+        for (const std::string& kind : kinds_)
+            check_file(fields[i], kind, fields.size() == 1 ? engines_label(ran) : engine_name(ran[i]), i == 0);
 }
 
 GoldenResult TestRun::run() {
@@ -437,13 +478,13 @@ GoldenResult TestRun::run() {
         const std::vector<EngineKind> engines = options_.engines.value_or(test_.engines);
         const Grid grid = golden_grid(*model, test_);
         try {
-            for (std::size_t i = 0; i < engines.size(); ++i) {
-                const double points = double(test_.points.size()) * (1 + model->dims());
-                if (!test_.points.empty() &&
-                    (engines[i] != EngineKind::Classic || classic_allowed(*model, points)))
-                    check_points(*model, engines[i]);
-                check_files(*model, grid, engines[i], i == 0);
-            }
+            std::vector<EngineKind> point_engines;
+            const double points = double(test_.points.size()) * (1 + model->dims());
+            for (EngineKind engine : engines)
+                if (engine != EngineKind::Classic || test_.points.empty() || classic_allowed(*model, points))
+                    point_engines.push_back(engine);
+            if (!test_.points.empty() && !point_engines.empty()) check_points(*model, point_engines);
+            check_files(*model, grid, engines);
         } catch (const std::exception& e) {
             fail(fmt::format("evaluation failed: {}", e.what()));
         }

@@ -168,7 +168,7 @@ std::string stem_of(const fs::path& p) { return p.stem().string(); }
 
 std::vector<GoldenTest> manifest_tests(const fs::path& manifest) {
     GoldenTest defaults;
-    defaults.name = manifest.string();
+    defaults.name = manifest.lexically_normal().string();
     defaults.script = manifest.string();
     std::ifstream in(manifest, std::ios::binary);
     if (!in) {
@@ -219,7 +219,7 @@ std::vector<GoldenTest> manifest_tests(const fs::path& manifest) {
         }
         for (const fs::path& script : scripts) {
             GoldenTest t = defaults;
-            t.name = fmt::format("{}:{}", manifest.string(), stem_of(script));
+            t.name = fmt::format("{}:{}", manifest.lexically_normal().string(), stem_of(script));
             t.script = script.string();
             t.expected_stem = (manifest.parent_path() / stem_of(script)).string();
             std::string read_error;
@@ -232,7 +232,7 @@ std::vector<GoldenTest> manifest_tests(const fs::path& manifest) {
 
 GoldenTest script_test(const fs::path& script) {
     GoldenTest t;
-    t.name = script.string();
+    t.name = script.lexically_normal().string();
     t.script = script.string();
     t.expected_stem = (script.parent_path() / stem_of(script)).string();
     std::string error;

@@ -82,10 +82,8 @@ ImageComparison compare_images(const std::string& expected_path, const std::stri
         if (finite) {
             const OIIO::ImageBufAlgo::CompareResults cr =
                 OIIO::ImageBufAlgo::compare(a, b, static_cast<float>(tolerance), static_cast<float>(tolerance));
-            if (cr.error) {
-                result.error = fmt::format("OpenImageIO cannot compare the images: {}", OIIO::geterror());
-                return result;
-            }
+            // (OpenImageIO 2.4 also sets cr.error when pixels fail; both images were read above,
+            // so the counts are what matter.)
             failing = cr.nfail;
             part_worst = cr.maxerror;
             worst_p = static_cast<std::size_t>(cr.maxy - a.spec().y) * w + (cr.maxx - a.spec().x);

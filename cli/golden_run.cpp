@@ -240,7 +240,7 @@ bool TestRun::check_errors(const DiagnosticSink& sink) {
         for (const std::string& a : actual) joined += (joined.empty() ? "" : "\n") + prefix + a;
         script_edits_[test_.errors[0].line] = joined;
         for (std::size_t i = 1; i < test_.errors.size(); ++i) script_edits_[test_.errors[i].line] = std::nullopt;
-        updated("its expect-error lines");
+        updated("the script's expect-error lines");
         return false;
     }
     std::string message = "the errors differ\n  expected:";
@@ -315,7 +315,7 @@ void TestRun::check_point(const PointExpectation& e, double v, const std::string
             edited_directive(script_lines_[e.line - 1], keyword_of(e.kind),
                              value ? "expect-value" : keyword_of(kind_of_value(v)),
                              value ? std::optional<double>(v) : std::nullopt);
-        updated(fmt::format("line {}", e.line));
+        updated(fmt::format("the script's line {}", e.line));
         return;
     }
     fail(fmt::format("line {}: {} {} ({}): expected {}, got {}", e.line, keyword_of(e.kind),
@@ -381,6 +381,8 @@ void TestRun::check_file(const Field& field, const std::string& kind, const std:
     if (options_.update) {
         if (!first_engine) return;  // the reference comes from the first engine; a second run checks the rest
         if (std::string e = write_actual(expected); !e.empty()) return fail(e);
+        fs::remove(beside("actual", kind), ec);
+        fs::remove(diff_path(kind), ec);
         return updated(fs::path(expected).filename().string());
     }
     std::string message = fmt::format("{} ({}): {}", fs::path(expected).filename().string(), label, difference);

@@ -176,7 +176,11 @@ std::vector<GoldenTest> manifest_tests(const fs::path& manifest) {
         return {defaults};
     }
     std::vector<std::string> patterns;
-    std::string text;
+    struct ScriptDirective {
+        int line;
+        std::string stem, directive;
+    };
+    std::vector<ScriptDirective> per_script;
     int line_no = 0;
     for (std::string line; std::getline(in, line);) {
         ++line_no;
@@ -184,6 +188,12 @@ std::vector<GoldenTest> manifest_tests(const fs::path& manifest) {
         if (line.empty() || line[0] == '#') continue;
         if (line.rfind("scripts ", 0) == 0) {
             patterns.push_back(trim(line.substr(8)));
+            continue;
+        }
+        // `STEM: DIRECTIVE` applies to one script only.
+        const std::size_t colon = line.find(':');
+        if (colon != std::string::npos && line.find_first_of(" \t") > colon) {
+            per_script.push_back({line_no, line.substr(0, colon), trim(line.substr(colon + 1))});
             continue;
         }
         if (std::string e = apply_directive(defaults, line, line_no); !e.empty())
@@ -217,11 +227,21 @@ std::vector<GoldenTest> manifest_tests(const fs::path& manifest) {
             broken.problems.push_back(fmt::format("scripts {}: no file matches", raw));
             tests.push_back(broken);
         }
+        for (const ScriptDirective& d : per_script)
+            if (std::none_of(scripts.begin(), scripts.end(), [&](const fs::path& p) { return stem_of(p) == d.stem; })) {
+                GoldenTest broken = defaults;
+                broken.problems.push_back(fmt::format("line {}: no script '{}' matches `scripts {}`", d.line, d.stem, raw));
+                if (patterns.size() == 1) tests.push_back(broken);
+            }
         for (const fs::path& script : scripts) {
             GoldenTest t = defaults;
+            for (const ScriptDirective& d : per_script)
+                if (d.stem == stem_of(script))
+                    if (std::string e = apply_directive(t, d.directive, d.line); !e.empty())
+                        t.problems.push_back(fmt::format("{} line {}: {}", manifest.filename().string(), d.line, e));
             t.name = fmt::format("{}:{}", manifest.lexically_normal().string(), stem_of(script));
             t.script = script.string();
-            t.expected_stem = (manifest.parent_path() / stem_of(script)).string();
+            t.expected_stem = (manifest.parent_path() / stem_of(script)).lexically_normal().string();
             std::string read_error;
             if (!read_script_directives(t, read_error)) t.problems.push_back(read_error);
             tests.push_back(std::move(t));
@@ -234,7 +254,7 @@ GoldenTest script_test(const fs::path& script) {
     GoldenTest t;
     t.name = script.lexically_normal().string();
     t.script = script.string();
-    t.expected_stem = (script.parent_path() / stem_of(script)).string();
+    t.expected_stem = (script.parent_path() / stem_of(script)).lexically_normal().string();
     std::string error;
     if (!read_script_directives(t, error)) t.problems.push_back(error);
     return t;

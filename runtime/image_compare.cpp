@@ -18,10 +18,16 @@ namespace {
 
 namespace OIIO = OIIO_NAMESPACE;
 
+/// OpenImageIO's message on one line (a report line per problem).
+std::string one_line(std::string message) {
+    for (std::size_t at; (at = message.find('\n')) != std::string::npos;) message.replace(at, 1, "; ");
+    return message;
+}
+
 int subimage_count(const std::string& path, std::string& error) {
     auto in = OIIO::ImageInput::open(path);
     if (!in) {
-        error = fmt::format("cannot read '{}': {}", path, oiio_reason(OIIO::geterror(), "", path));
+        error = fmt::format("cannot read '{}': {}", path, one_line(oiio_reason(OIIO::geterror(), "", path)));
         return 0;
     }
     int n = 0;
@@ -34,7 +40,7 @@ int subimage_count(const std::string& path, std::string& error) {
 std::string read(OIIO::ImageBuf& buf, const std::string& path, int subimage) {
     buf.reset(path, subimage, 0);
     if (!buf.read(subimage, 0, /*force=*/true, OIIO::TypeDesc::FLOAT) || buf.has_error())
-        return fmt::format("cannot read '{}': {}", path, oiio_reason(buf.geterror(), "", path));
+        return fmt::format("cannot read '{}': {}", path, one_line(oiio_reason(buf.geterror(), "", path)));
     return "";
 }
 

@@ -72,6 +72,8 @@ usage:
   fortu eval  MODEL.fortu X Y [Z]        value, gradient and M-image normal at a point
   fortu check MODEL.fortu                parse and check; diagnostics only
   fortu ir    MODEL.fortu                print the lowered IR (nodes, sharing, costs)
+  fortu golden DIR|FILE... [--engine both|classic|voxel] [--update] [--jobs N]
+                                         run golden tests (fortu golden --help)
   fortu help | --help                    this text
 
 options:

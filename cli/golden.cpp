@@ -20,10 +20,29 @@ namespace {
 constexpr const char* kGoldenUsage =
     "usage: fortu golden DIR|FILE... [--engine both|classic|voxel] [--update] [--jobs N]";
 
+constexpr const char* kGoldenHelp = R"(
+A golden test is a .fortu script with expectations in its comments, and/or reference files
+beside it (NAME.expected.png|exr|npy|csv|svg, made and refreshed by --update):
+  // expect-value X Y[ Z]: VALUE [+- TOL]    the value at a point (TOL: golden-tolerance)
+  // expect-inside X Y[ Z]                   value > 0 (also expect-outside < 0,
+                                             expect-boundary = 0)
+  // expect-error LINE:COL: MESSAGE          the script's errors, in order
+  // expect-singular (X, Y) ...              singular points (needs `fortu singular`)
+  // golden-engine both|classic|voxel        default both (--engine overrides)
+  // golden-size N | WxH | WxHxD ...         default RECTBMP, else 64x64 (2D), 16x16x16 (3D)
+  // golden-tolerance T                      values, npy, csv, svg, exr (default 1e-9)
+  // golden-pixel-tolerance L                png, in 8-bit levels (default 0)
+  // golden-output png exr npy csv svg       references --update creates
+A NAME.golden manifest runs scripts kept elsewhere (`scripts ../models/*.fortu`, then
+directives without `//`, or `STEM: directive` for one script); references sit beside it.
+Output: PASS/FAIL/UPDATE per test, then `T tests: N passed, M failed`; exit 0 iff all pass.
+)";
+
 struct GoldenCommand {
     std::vector<std::string> paths;
     GoldenRunOptions run;
     int jobs = 1;
+    bool help = false;
 };
 
 GoldenCommand parse_golden_arguments(const std::vector<std::string>& args) {
@@ -34,7 +53,9 @@ GoldenCommand parse_golden_arguments(const std::vector<std::string>& args) {
             if (i + 1 >= args.size()) throw UsageError(fmt::format("'fortu golden': {} needs a value\n{}", a, kGoldenUsage));
             return args[++i];
         };
-        if (a == "--update") {
+        if (a == "--help" || a == "-h") {
+            c.help = true;
+        } else if (a == "--update") {
             c.run.update = true;
         } else if (a == "--engine") {
             const std::string& e = value();
@@ -55,6 +76,7 @@ GoldenCommand parse_golden_arguments(const std::vector<std::string>& args) {
             c.paths.push_back(a);
         }
     }
+    if (c.help) return c;
     if (c.paths.empty()) throw UsageError(fmt::format("'fortu golden': no tests given\n{}", kGoldenUsage));
     // Tests share the cores: one evaluation thread each when several run at once.
     c.run.eval_threads = c.jobs > 1 ? 1 : 0;
@@ -85,6 +107,10 @@ std::string report(const std::string& name, const GoldenResult& r) {
 
 int run_golden_command(const std::vector<std::string>& args) {
     const GoldenCommand command = parse_golden_arguments(args);
+    if (command.help) {
+        std::cout << kGoldenUsage << "\n" << kGoldenHelp;
+        return 0;
+    }
     std::vector<GoldenTest> tests;
     for (const std::string& path : command.paths)
         for (GoldenTest& t : collect_tests(path)) tests.push_back(std::move(t));

@@ -361,9 +361,10 @@ void TestRun::check_file(const Field& field, const std::string& kind, const std:
                 ? fmt::format("pixel ({}, {}) of slice {}", c.worst_x, c.worst_y, c.worst_subimage)
                 : fmt::format("pixel ({}, {})", c.worst_x, c.worst_y);
             difference = fmt::format(
-                "{} of {} pixels differ by more than {}; worst at {} (x {}, y {}): expected {}, got {}",
+                "{} of {} pixels differ by more than {} (max error {}); worst at {} (x {}, y {}): expected {}, got {}",
                 format_count(c.failing), format_count(c.pixels),
                 picture ? fmt::format("{} level(s)", test_.pixel_tolerance) : fmt::format("{}", test_.tolerance),
+                picture ? fmt::format("{} levels", std::lround(c.max_error * 255.0)) : fmt::format("{}", static_cast<float>(c.max_error)),
                 where, field.grid.x_at(c.worst_x), field.grid.y_at(c.worst_y),
                 pixel_text(c.expected, c.channels, picture), pixel_text(c.actual, c.channels, picture));
             diff_subimage = c.worst_subimage;

@@ -103,7 +103,8 @@ TEST_CASE("changing one constant fails with the worst pixel and a diff image; --
           "FAIL disc.fortu: line 3: expect-value 0 0 (both engines): expected 0.25 +- 1e-09, got 0.36\n"
           // The colour scale follows the values, so most pixels change; the worst is a pixel that
           // the wider disc's zero contour (black) now crosses.
-          "  disc.expected.png (both engines): 248 of 256 pixels differ by more than 0 level(s); worst at pixel "
+          "  disc.expected.png (both engines): 248 of 256 pixels differ by more than 0 level(s) (max error 252 "
+          "levels); worst at pixel "
           "(5, 4) (x -0.33333333333333337, y 0.4666666666666667): expected (226, 235, 252), got (0, 0, 0)\n"
           "    new output: disc.actual.png\n"
           "    diff image: disc.diff.png\n"
@@ -305,4 +306,22 @@ TEST_CASE("usage errors exit 2") {
     t.write("notes.txt", "x");
     CHECK(t.golden("notes.txt").out ==
           "fortu: error: 'fortu golden': 'notes.txt' is neither a .fortu script nor a .golden manifest\n");
+}
+
+TEST_CASE("a 3D EXR reference: the worst pixel names its slice and every channel") {
+    TempDir t;
+    const std::string script = "// golden-size 4x4x3\n// golden-output exr\n"
+                               "ARGUMENT X(-1, 1), Y(-1, 1), Z(-1, 1);\nRETURN 1 - X*X - Y*Y - Z*Z;\n";
+    t.write("ball.fortu", script);
+    REQUIRE(t.golden("ball.fortu --update").status == 0);
+    t.write("ball.fortu", std::string(script).replace(script.find("1 - X"), 1, "1.5"));
+    CHECK(t.golden("ball.fortu").out ==
+          "FAIL ball.fortu: ball.expected.exr (both engines): 48 of 48 pixels differ by more than 1e-09 (max error "
+          "0.50000006); worst at pixel (1, 0) of slice 0 (x -0.33333333333333337, y 1): expected (n1=-0, "
+          "n2=0.5807207, n3=-0.43554053, n4=0.43554053, n5=-0.5323273, value=-1.1111112), got (n1=-0, "
+          "n2=0.51343507, n3=-0.38507628, n4=0.38507628, n5=-0.66318697, value=-0.6111111)\n"
+          "    new output: ball.actual.exr\n"
+          "    diff image: ball.diff.exr\n"
+          "1 test: 0 passed, 1 failed\n");
+    CHECK(t.has("ball.diff.exr"));
 }

@@ -72,8 +72,11 @@ usage:
   fortu eval  MODEL.fortu X Y [Z]        value, gradient and M-image normal at a point
   fortu check MODEL.fortu                parse and check; diagnostics only
   fortu ir    MODEL.fortu                print the lowered IR (nodes, sharing, costs)
-  fortu golden DIR|FILE... [--engine both|classic|voxel] [--update] [--jobs N]
-                                         run golden tests (fortu golden --help)
+  fortu singular MODEL.fortu [-o F.png]  singular (corner) points: K = 0 and R = 0
+                                         (search grid: --size, default 401x401 / 48^3)
+  fortu golden DIR|FILE...               run golden tests of scripted models
+  fortu bench MODEL... | --paper         time the engines (the papers' comparison)
+  fortu repl [MODEL.fortu]               interactive session
   fortu help | --help                    this text
 
 options:
@@ -94,7 +97,7 @@ options:
                               invalid points, peak memory
   --threads N                 worker threads (default: all cores)
   --budget OPS                the classic engine refuses runs above OPS operations
-                              (default 2e10, about a minute here); --force runs anyway
+                              (default 1e10, about a minute here); --force runs anyway
   --force                     run the classic engine even above the budget
 
 exit status: 0 success, 1 model error (diagnostics printed), 2 usage error
@@ -107,7 +110,7 @@ CliOptions parse_command_line(const std::vector<std::string>& args) {
     o.command = args[0];
     if (o.command == "--help" || o.command == "-h") o.command = "help";
     if (o.command == "--version") o.command = "version";
-    static const char* kCommands[] = {"run", "eval", "check", "ir", "help", "version"};
+    static const char* kCommands[] = {"run", "eval", "check", "ir", "singular", "help", "version"};
     bool known = false;
     for (const char* c : kCommands) known = known || o.command == c;
     if (!known) throw UsageError(fmt::format("unknown command '{}' (try 'fortu --help')", o.command));

@@ -31,7 +31,7 @@ struct CliOptions {
     std::optional<int> slice;                  ///< --slice (3D picture outputs)
     bool stats = false;
     bool force = false;
-    double budget = 2e10;                      ///< classic operations per run before refusing
+    double budget = 1e10;                      ///< classic operations per run before refusing (~1 min here)
     int threads = 0;
     bool float32 = false;                      ///< --float32 for .npy output
 };

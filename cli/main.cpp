@@ -9,6 +9,7 @@
 #include "interp/engine.hpp"
 #include "interp/ir_print.hpp"
 #include "interp/lower.hpp"
+#include "interp/singular.hpp"
 #include "runtime/field_stats.hpp"
 #include "runtime/fv_model.hpp"
 #include "runtime/output.hpp"
@@ -192,6 +193,41 @@ int command_eval(const CliOptions& o) {
     return 0;
 }
 
+int command_singular(const CliOptions& o) {
+    double seconds = 0;
+    std::optional<Model> model = load_model(o, false, seconds);
+    if (!model) return kExitModelError;
+    CliOptions search = o;
+    if (search.size.empty()) search.size = {model->dims() == 3 ? 48 : 401};
+    const Grid grid = make_grid(*model, search);
+    const std::vector<SingularPoint> points = find_singular_points(*model, grid);
+    std::cout << fmt::format("{}: {} singular point{} (K = 0 and R = 0) in x [{}, {}], y [{}, {}]{}\n",
+                             o.positional[0], points.size(), points.size() == 1 ? "" : "s", grid.x.min,
+                             grid.x.max, grid.y.min, grid.y.max,
+                             grid.dims == 3 ? fmt::format(", z [{}, {}]", grid.z.min, grid.z.max) : "");
+    for (const SingularPoint& s : points) {
+        if (grid.dims == 3) std::cout << fmt::format("({}, {}, {})", s.point[0], s.point[1], s.point[2]);
+        else std::cout << fmt::format("({}, {})", s.point[0], s.point[1]);
+        std::cout << fmt::format("  corner of {} R-operation{}\n", s.operations, s.operations == 1 ? "" : "s");
+    }
+    if (!o.output.empty()) {
+        OutputOptions out;
+        if (o.slice) out.slice = *o.slice;
+        const Field field = evaluate_grid(*model, grid, EngineKind::Voxel);
+        const int slice = grid.dims == 3 ? (o.slice ? *o.slice : grid.slices() / 2) : 0;
+        for (const SingularPoint& s : points)
+            if (grid.dims == 2 || std::fabs(s.point[2] - grid.z_at(slice)) <= grid.z.step() / 2)
+                out.markers.push_back({s.point[0], s.point[1]});
+        try {
+            write_field(field, o.output, out);
+        } catch (const OutputError& e) {
+            std::cerr << fmt::format("fortu: error: {}\n", e.what());
+            return kExitModelError;
+        }
+    }
+    return 0;
+}
+
 int command_run(const CliOptions& o) {
     double compile_seconds = 0;
     std::optional<Model> model = load_model(o, false, compile_seconds);
@@ -206,6 +242,7 @@ int command_run(const CliOptions& o) {
     Stopwatch clock;
     Field field = evaluate_grid(*model, grid, o.engine, eval);
     const double eval_seconds = clock.seconds();
+    const std::size_t eval_peak = peak_rss_bytes();  // before any image writer loads OpenImageIO
     progress.finish();
 
     const FieldStats stats = field_stats(field);
@@ -228,6 +265,13 @@ int command_run(const CliOptions& o) {
     }
     const double write_seconds = write_clock.seconds();
 
+    if (!o.stats && o.output.empty() && o.mimages.empty() && o.contour.empty()) {
+        std::cout << fmt::format("{} {} with {} in {}: inside {}, boundary {}, outside {}, invalid {}; "
+                                 "values in [{}, {}] (write them with -o FILE)\n",
+                                 o.positional[0], grid_text(grid), engine_name(o.engine),
+                                 format_duration(eval_seconds), stats.positive, stats.zero, stats.negative,
+                                 stats.invalid, stats.min, stats.max);
+    }
     if (o.stats) {
         const IrStats s = ir_stats(*model);
         std::cout << fmt::format(
@@ -238,7 +282,7 @@ int command_run(const CliOptions& o) {
             "time: compile {:.3f} s, evaluate {:.3f} s, write {:.3f} s\n"
             "speed: {} points/s\n"
             "values: min {}, max {}, inside {}, boundary {}, outside {}, invalid {}\n"
-            "peak memory: {}\n",
+            "peak memory: {} evaluating, {} in all\n",
             o.positional[0], grid_text(grid), format_operations(double(grid.points())), grid.x.min, grid.x.max,
             grid.y.min, grid.y.max, grid.dims == 3 ? fmt::format(", z [{}, {}]", grid.z.min, grid.z.max) : "",
             s.nodes, s.operations, s.shared, s.reuses, format_operations(s.classic_operations),
@@ -246,7 +290,7 @@ int command_run(const CliOptions& o) {
             compile_seconds, eval_seconds, write_seconds,
             format_operations(eval_seconds > 0 ? double(grid.points()) / eval_seconds : 0.0),
             stats.min, stats.max, stats.positive, stats.zero, stats.negative, stats.invalid,
-            format_bytes(peak_rss_bytes()));
+            format_bytes(eval_peak), format_bytes(peak_rss_bytes()));
     }
     return 0;
 }
@@ -271,6 +315,7 @@ int main(int argc, char** argv) {
         if (o.command == "check") return command_check(o);
         if (o.command == "ir") return command_ir(o);
         if (o.command == "eval") return command_eval(o);
+        if (o.command == "singular") return command_singular(o);
         return command_run(o);
     } catch (const UsageError& e) {
         std::cerr << "fortu: error: " << e.what() << "\n";

@@ -7,7 +7,7 @@
 #include "runtime/output_error.hpp"
 #include "runtime/output_path.hpp"
 
-#include <OpenImageIO/imageio.h>
+#include "runtime/image_io.hpp"
 #include <fmt/format.h>
 
 namespace fortu {
@@ -19,18 +19,19 @@ std::string domain_text(const Grid& g) {
     return text;
 }
 
-OIIO::ImageSpec slice_spec(const Grid& g, int slice) {
-    const auto names = exr_channel_names(g);
-    OIIO::ImageSpec spec(g.cols(), g.rows(), static_cast<int>(names.size()), OIIO::TypeDesc::FLOAT);
-    spec.channelnames = names;
-    spec.attribute("compression", "zip");
-    spec.attribute("Software", "fortu");
-    spec.attribute("fortu:domain", domain_text(g));
+ImageLayer slice_layer(const Grid& g, int slice, const std::vector<float>& pixels) {
+    ImageLayer layer;
+    layer.cols = g.cols();
+    layer.rows = g.rows();
+    layer.channels = exr_channel_names(g);
+    layer.is_float = true;
+    layer.pixels = pixels.data();
+    layer.text_attributes = {{"compression", "zip"}, {"Software", "fortu"}, {"fortu:domain", domain_text(g)}};
     if (g.dims == 3) {
-        spec.attribute("oiio:subimagename", fmt::format("z{:04d}", slice));
-        spec.attribute("fortu:z", static_cast<float>(g.z_at(slice)));
+        layer.text_attributes.emplace_back("oiio:subimagename", fmt::format("z{:04d}", slice));
+        layer.float_attributes.emplace_back("fortu:z", static_cast<float>(g.z_at(slice)));
     }
-    return spec;
+    return layer;
 }
 
 // value, n1..n_k interleaved per pixel, in image order.
@@ -49,19 +50,13 @@ std::vector<float> slice_pixels(const Field& field, int slice) {
 }
 
 void write_parts(const Field& field, const std::string& path, int first, int count) {
+    std::vector<std::vector<float>> pixels;
+    std::vector<ImageLayer> layers;
+    for (int s = first; s < first + count; ++s) pixels.push_back(slice_pixels(field, s));
+    for (int i = 0; i < count; ++i) layers.push_back(slice_layer(field.grid, first + i, pixels[i]));
     write_atomically(path, [&](const std::string& temp) {
-        auto out = OIIO::ImageOutput::create(temp);
-        if (!out) throw OutputError(path, oiio_reason(OIIO::geterror(), temp, path));
-        std::vector<OIIO::ImageSpec> specs;
-        for (int s = first; s < first + count; ++s) specs.push_back(slice_spec(field.grid, s));
-        auto fail = [&] { return OutputError(path, oiio_reason(out->geterror(), temp, path)); };
-        if (!out->open(temp, count, specs.data())) throw fail();
-        for (int i = 0; i < count; ++i) {
-            if (i > 0 && !out->open(temp, specs[i], OIIO::ImageOutput::AppendSubimage)) throw fail();
-            const std::vector<float> pixels = slice_pixels(field, first + i);
-            if (!out->write_image(OIIO::TypeDesc::FLOAT, pixels.data())) throw fail();
-        }
-        if (!out->close()) throw fail();
+        const std::string error = write_image_layers(temp, layers);
+        if (!error.empty()) throw OutputError(path, oiio_reason(error, temp, path));
     });
 }
 

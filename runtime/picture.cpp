@@ -6,7 +6,7 @@
 #include "runtime/oiio_util.hpp"
 #include "runtime/output_error.hpp"
 
-#include <OpenImageIO/imageio.h>
+#include "runtime/image_io.hpp"
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -125,16 +125,21 @@ std::vector<Rgb8> render_slice(const Field& field, int slice, const ColourScale&
 
 void write_image_8bit(const std::string& path, int cols, int rows, int channels,
                       std::span<const std::uint8_t> pixels, const OutputOptions& options) {
+    static const char* kNames[] = {"R", "G", "B", "A"};
+    ImageLayer layer;
+    layer.cols = cols;
+    layer.rows = rows;
+    if (channels == 1) layer.channels = {"Y"};
+    else
+        for (int c = 0; c < channels; ++c) layer.channels.push_back(c < 4 ? kNames[c] : fmt::format("c{}", c));
+    layer.pixels = pixels.data();
+    layer.text_attributes.emplace_back("Software", "fortu");
+    const std::string ext = path_extension(path);
+    if (ext == "jpg" || ext == "jpeg")
+        layer.text_attributes.emplace_back("Compression", fmt::format("jpeg:{}", std::clamp(options.jpeg_quality, 1, 100)));
     write_atomically(path, [&](const std::string& temp) {
-        auto out = OIIO::ImageOutput::create(temp);
-        if (!out) throw OutputError(path, oiio_reason(OIIO::geterror(), temp, path));
-        OIIO::ImageSpec spec(cols, rows, channels, OIIO::TypeDesc::UINT8);
-        spec.attribute("Software", "fortu");
-        const std::string ext = path_extension(path);
-        if (ext == "jpg" || ext == "jpeg")
-            spec.attribute("Compression", fmt::format("jpeg:{}", std::clamp(options.jpeg_quality, 1, 100)));
-        if (!out->open(temp, spec) || !out->write_image(OIIO::TypeDesc::UINT8, pixels.data()) || !out->close())
-            throw OutputError(path, oiio_reason(out->geterror(), temp, path));
+        const std::string error = write_image_layers(temp, {layer});
+        if (!error.empty()) throw OutputError(path, oiio_reason(error, temp, path));
     });
 }
 

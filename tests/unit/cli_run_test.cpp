@@ -110,7 +110,7 @@ TEST_CASE("the classic engine refuses runs over its budget, with the estimate an
     CHECK(r.status == 2);
     CHECK(r.out ==
           "fortu: error: the classic engine would need 19,327,352,824 operations per point x 10,000 points = "
-          "1.93e+14 operations (budget 2e+10)\n"
+          "1.93e+14 operations (budget 1e+10)\n"
           "note: use --engine voxel (31 operations per point), a smaller --size, a larger --budget, or --force\n");
     CHECK(run_fortu("run " + m + " --engine voxel --size 100").status == 0);
     auto ir = run_fortu("ir " + m, ".", true);

@@ -1,0 +1,152 @@
+// interp/singular.cpp — corner finding: grid seeds, Newton refinement, the R = 0 filter.
+#include "interp/singular.hpp"
+
+#include "interp/engine.hpp"
+#include "interp/voxel_engine.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace fortu {
+namespace {
+
+/// R-operation nodes reachable from the root (each once, however often it is shared).
+std::vector<ir::NodeId> r_operations(const Model& model) {
+    std::vector<ir::NodeId> ops;
+    for (ir::NodeId id : model.graph.reachable(model.root))
+        if (ir::op_flags(model.graph.node(id).op) & ir::kROperation) ops.push_back(id);
+    return ops;
+}
+
+/// 1 + |∇f|, ignoring a non-finite gradient (at a corner sqrt(a² + b²) has none).
+double scale_of(const PointValue& v) {
+    const double g = std::hypot(v.gradient[0], v.gradient[1], v.gradient[2]);
+    return 1.0 + (std::isfinite(g) ? g : 0.0);
+}
+
+/// True when the values at a cell's corners straddle zero (or touch it).
+bool changes_sign(const double* v, int n) {
+    double lo = v[0], hi = v[0];
+    for (int i = 1; i < n; ++i) {
+        if (!std::isfinite(v[i])) return false;
+        lo = std::min(lo, v[i]);
+        hi = std::max(hi, v[i]);
+    }
+    return std::isfinite(v[0]) && lo <= 0 && hi >= 0;
+}
+
+/// Newton's method on F = (φ, ψ) = 0 from p. 2D: the 2×2 system; 3D: the minimum-norm
+/// Gauss–Newton step onto the curve φ = ψ = 0. Returns false when it does not converge.
+bool refine(const PointEvaluator& phi, const PointEvaluator& psi, int dims, std::array<double, 3>& p,
+            double scale) {
+    for (int iteration = 0; iteration < 60; ++iteration) {
+        const PointValue a = phi(p), b = psi(p);
+        if (!std::isfinite(a.value) || !std::isfinite(b.value)) return false;
+        const double residual = std::fabs(a.value) + std::fabs(b.value);
+        if (residual <= 1e-13 * (scale_of(a) + scale_of(b)) * std::max(1.0, scale)) return true;
+        // J J^T (2x2) for 3D; J itself for 2D. Solve for the step.
+        const auto& ga = a.gradient;
+        const auto& gb = b.gradient;
+        std::array<double, 3> step{};
+        if (dims == 2) {
+            const double det = ga[0] * gb[1] - ga[1] * gb[0];
+            if (std::fabs(det) < 1e-300) return false;
+            step[0] = (a.value * gb[1] - b.value * ga[1]) / det;
+            step[1] = (ga[0] * b.value - gb[0] * a.value) / det;
+        } else {
+            const double m00 = ga[0] * ga[0] + ga[1] * ga[1] + ga[2] * ga[2];
+            const double m01 = ga[0] * gb[0] + ga[1] * gb[1] + ga[2] * gb[2];
+            const double m11 = gb[0] * gb[0] + gb[1] * gb[1] + gb[2] * gb[2];
+            const double det = m00 * m11 - m01 * m01;
+            if (std::fabs(det) < 1e-300) return false;
+            const double l0 = (a.value * m11 - b.value * m01) / det;
+            const double l1 = (m00 * b.value - m01 * a.value) / det;
+            for (int k = 0; k < 3; ++k) step[k] = l0 * ga[k] + l1 * gb[k];
+        }
+        for (int k = 0; k < dims; ++k) p[k] -= step[k];
+        if (std::hypot(step[0], step[1], step[2]) > 10 * scale) return false;  // ran away
+    }
+    return false;
+}
+
+bool inside_box(const Grid& g, const std::array<double, 3>& p, double margin) {
+    const Axis* axes[3] = {&g.x, &g.y, &g.z};
+    for (int k = 0; k < g.dims; ++k)
+        if (p[k] < axes[k]->min - margin || p[k] > axes[k]->max + margin) return false;
+    return true;
+}
+
+}  // namespace
+
+ir::NodeId singular_criterion(Model& model) {
+    ir::NodeId k = model.graph.constant(1.0);
+    for (ir::NodeId op : r_operations(model)) {
+        const ir::Node n = model.graph.node(op);
+        const ir::NodeId sum = model.graph.binary(ir::Op::Add, model.graph.unary(ir::Op::Square, n.args[0]),
+                                                  model.graph.unary(ir::Op::Square, n.args[1]));
+        k = model.graph.binary(ir::Op::Mul, k, sum);
+    }
+    return k;
+}
+
+std::vector<SingularPoint> find_singular_points(const Model& model, const Grid& g) {
+    const int dims = g.dims;
+    const double h = std::max({g.x.step(), g.y.step(), dims == 3 ? g.z.step() : 0.0});
+    const double extent = std::max({g.x.max - g.x.min, g.y.max - g.y.min, dims == 3 ? g.z.max - g.z.min : 0.0});
+    const PointEvaluator model_at(model.graph, model.root);
+    std::vector<SingularPoint> found;
+
+    auto add = [&](const std::array<double, 3>& p, double merge_distance) {
+        for (const SingularPoint& s : found)
+            if (std::hypot(s.point[0] - p[0], s.point[1] - p[1], s.point[2] - p[2]) <= merge_distance) return;
+        found.push_back(SingularPoint{p, 0});
+    };
+
+    const std::vector<ir::NodeId> ops = r_operations(model);
+    std::vector<std::pair<PointEvaluator, PointEvaluator>> operands;
+    for (ir::NodeId op : ops) {
+        const ir::Node& n = model.graph.node(op);
+        operands.emplace_back(PointEvaluator(model.graph, n.args[0]), PointEvaluator(model.graph, n.args[1]));
+    }
+    const int corners = dims == 3 ? 8 : 4;
+    const int slice_cells = dims == 3 ? g.slices() - 1 : 1;
+    for (std::size_t i = 0; i < ops.size(); ++i) {
+        const ir::Node& n = model.graph.node(ops[i]);
+        const Field phi = evaluate_grid(model.graph, n.args[0], g, EngineKind::Voxel);
+        const Field psi = evaluate_grid(model.graph, n.args[1], g, EngineKind::Voxel);
+        const auto& [phi_at, psi_at] = operands[i];
+        for (int s = 0; s < slice_cells; ++s)
+            for (int r = 0; r + 1 < g.rows(); ++r)
+                for (int c = 0; c + 1 < g.cols(); ++c) {
+                    double a[8], b[8];
+                    for (int k = 0; k < corners; ++k) {
+                        const std::size_t at = g.index(c + (k & 1), r + ((k >> 1) & 1), s + (k >> 2));
+                        a[k] = phi.values[at];
+                        b[k] = psi.values[at];
+                    }
+                    if (!changes_sign(a, corners) || !changes_sign(b, corners)) continue;
+                    std::array<double, 3> p{g.x_at(c) + g.x.step() / 2, g.y_at(r) - g.y.step() / 2,
+                                            dims == 3 ? g.z_at(s) + g.z.step() / 2 : 0.0};
+                    if (!refine(phi_at, psi_at, dims, p, h)) continue;
+                    if (!inside_box(g, p, 1e-9 * extent)) continue;
+                    // R = 0: the corner is on the model's boundary, not outside its region.
+                    const PointValue r_value = model_at(p);
+                    if (!(std::fabs(r_value.value) <= 1e-9 * scale_of(r_value) * std::max(1.0, h))) continue;
+                    add(p, dims == 3 ? h / 2 : 1e-7 * std::max(1.0, extent));
+                }
+    }
+    for (SingularPoint& s : found) {
+        for (const auto& [phi_at, psi_at] : operands)
+            s.operations += std::fabs(phi_at(s.point).value) + std::fabs(psi_at(s.point).value) <= 1e-9 * std::max(1.0, h);
+        for (double& v : s.point) {  // snap to 1e-12 so results read cleanly; no -0
+            v = std::round(v * 1e12) / 1e12;
+            if (v == 0) v = 0;
+        }
+    }
+    std::sort(found.begin(), found.end(), [](const SingularPoint& a, const SingularPoint& b) {
+        return a.point < b.point;
+    });
+    return found;
+}
+
+}  // namespace fortu

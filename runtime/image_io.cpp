@@ -1,0 +1,84 @@
+// runtime/image_io.cpp — finds and loads libfortu_image.so on first use.
+#include "runtime/image_io.hpp"
+
+#include <dlfcn.h>
+#include <filesystem>
+#include <mutex>
+
+#ifndef FORTU_IMAGE_MODULE_BUILD_PATH
+#define FORTU_IMAGE_MODULE_BUILD_PATH ""
+#endif
+
+namespace fortu {
+namespace {
+
+constexpr const char* kModuleName = "libfortu_image.so";
+
+struct Loaded {
+    const ImageModule* module = nullptr;
+    std::string error;
+};
+
+/// Next to the binary, then where the build put it (tests run from other folders), then
+/// $FORTU_IMAGE_MODULE.
+Loaded load_module() {
+    std::vector<std::string> candidates;
+    if (const char* env = std::getenv("FORTU_IMAGE_MODULE")) candidates.emplace_back(env);
+    std::error_code ec;
+    const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+    if (!ec) {
+        candidates.push_back((exe.parent_path() / kModuleName).string());
+        candidates.push_back((exe.parent_path().parent_path() / kModuleName).string());
+    }
+    if (*FORTU_IMAGE_MODULE_BUILD_PATH) candidates.emplace_back(FORTU_IMAGE_MODULE_BUILD_PATH);
+    Loaded result;
+    for (const std::string& path : candidates) {
+        if (!std::filesystem::exists(path, ec)) continue;
+        void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+        if (!handle) {
+            result.error = std::string("cannot load the image module: ") + dlerror();
+            continue;
+        }
+        using Entry = const ImageModule* (*)();
+        auto entry = reinterpret_cast<Entry>(dlsym(handle, "fortu_image_module"));
+        const ImageModule* module = entry ? entry() : nullptr;
+        if (!module || module->version != kImageModuleVersion) {
+            result.error = "the image module '" + path + "' is from another build of fortu";
+            continue;
+        }
+        result.module = module;
+        return result;
+    }
+    if (result.error.empty())
+        result.error = std::string("cannot find the image module ") + kModuleName +
+                       " (it is built next to the fortu binary; set FORTU_IMAGE_MODULE to its path)";
+    return result;
+}
+
+const Loaded& module() {
+    static std::once_flag once;
+    static Loaded loaded;
+    std::call_once(once, [] { loaded = load_module(); });
+    return loaded;
+}
+
+}  // namespace
+
+std::string write_image_layers(const std::string& file, const std::vector<ImageLayer>& layers) {
+    const Loaded& m = module();
+    if (!m.module) return m.error;
+    return m.module->write(file, layers);
+}
+
+std::optional<ImageData> read_image(const std::string& file, std::string& error) {
+    const Loaded& m = module();
+    if (!m.module) {
+        error = m.error;
+        return std::nullopt;
+    }
+    ImageData data;
+    if (!m.module->read(file, data, error)) return std::nullopt;
+    return data;
+}
+
+}  // namespace fortu

@@ -1,0 +1,53 @@
+// runtime/image_io.hpp — image files (PNG, TIFF, EXR, ...) through OpenImageIO, which lives in
+// a plug-in module loaded on first use.
+//
+// Why a module: Debian's OpenImageIO links ~260 libraries (ffmpeg, GDAL, x265, ...); linking
+// it into fortu maps them into every run, ~120 MiB resident before any work, which would
+// drown the engines' own memory (a 7866-node model on 1024² needs tens of MiB). So the
+// OpenImageIO code is built as `libfortu_image.so` next to the binary and dlopen'ed only by
+// runs that read or write an image.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace fortu {
+
+/// One image, or one part of a multi-part file (a 3D EXR has one part per slice).
+struct ImageLayer {
+    int cols = 0;
+    int rows = 0;
+    std::vector<std::string> channels;   ///< channel names; their count is the channel count
+    bool is_float = false;               ///< float32 samples, else uint8
+    const void* pixels = nullptr;        ///< interleaved per pixel, row 0 at the top
+    std::vector<std::pair<std::string, std::string>> text_attributes;
+    std::vector<std::pair<std::string, float>> float_attributes;
+};
+
+/// An image read back: float samples, interleaved per pixel, row 0 at the top.
+struct ImageData {
+    int cols = 0;
+    int rows = 0;
+    std::vector<std::string> channels;
+    std::vector<float> pixels;
+};
+
+/// Writes `layers` to `file` (the format follows its extension; several layers make a
+/// multi-part file). Returns "" on success, else OpenImageIO's reason.
+std::string write_image_layers(const std::string& file, const std::vector<ImageLayer>& layers);
+
+/// Reads the first image of `file`; nullopt with `error` set when it cannot.
+std::optional<ImageData> read_image(const std::string& file, std::string& error);
+
+/// The interface the module exports (`fortu_image_module()`); versioned so a stale module
+/// from an older build is refused instead of misread.
+struct ImageModule {
+    int version;
+    std::string (*write)(const std::string& file, const std::vector<ImageLayer>& layers);
+    bool (*read)(const std::string& file, ImageData& out, std::string& error);
+};
+inline constexpr int kImageModuleVersion = 1;
+
+}  // namespace fortu

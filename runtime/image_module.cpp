@@ -1,0 +1,70 @@
+// runtime/image_module.cpp — the OpenImageIO plug-in (libfortu_image.so): the only code
+// that includes OpenImageIO. See image_io.hpp for why it is a module.
+#include "runtime/image_io.hpp"
+
+#include <OpenImageIO/imageio.h>
+
+namespace fortu {
+namespace {
+
+std::string write_layers(const std::string& file, const std::vector<ImageLayer>& layers) {
+    if (layers.empty()) return "no image to write";
+    auto out = OIIO::ImageOutput::create(file);
+    if (!out) {
+        std::string reason = OIIO::geterror();
+        return reason.empty() ? "OpenImageIO cannot write this format" : reason;
+    }
+    std::vector<OIIO::ImageSpec> specs;
+    for (const ImageLayer& layer : layers) {
+        OIIO::ImageSpec spec(layer.cols, layer.rows, static_cast<int>(layer.channels.size()),
+                             layer.is_float ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
+        spec.channelnames = layer.channels;
+        for (const auto& [name, value] : layer.text_attributes) spec.attribute(name, value);
+        for (const auto& [name, value] : layer.float_attributes) spec.attribute(name, value);
+        specs.push_back(std::move(spec));
+    }
+    auto failed = [&] {
+        std::string reason = out->geterror();
+        return reason.empty() ? std::string("OpenImageIO reported an unknown error") : reason;
+    };
+    const int count = static_cast<int>(specs.size());
+    if (count > 1 && !out->supports("multiimage")) return "this format holds one image only";
+    if (!out->open(file, count, specs.data())) return failed();
+    for (int i = 0; i < count; ++i) {
+        if (i > 0 && !out->open(file, specs[i], OIIO::ImageOutput::AppendSubimage)) return failed();
+        const OIIO::TypeDesc type = layers[i].is_float ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8;
+        if (!out->write_image(type, layers[i].pixels)) return failed();
+    }
+    if (!out->close()) return failed();
+    return {};
+}
+
+bool read_first(const std::string& file, ImageData& data, std::string& error) {
+    auto in = OIIO::ImageInput::open(file);
+    if (!in) {
+        error = OIIO::geterror();
+        if (error.empty()) error = "OpenImageIO cannot read it";
+        return false;
+    }
+    const OIIO::ImageSpec& spec = in->spec();
+    data.cols = spec.width;
+    data.rows = spec.height;
+    data.channels = spec.channelnames;
+    data.pixels.resize(static_cast<std::size_t>(spec.width) * spec.height * spec.nchannels);
+    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, data.pixels.data())) {
+        error = in->geterror();
+        if (error.empty()) error = "OpenImageIO could not decode it";
+        return false;
+    }
+    in->close();
+    return true;
+}
+
+constexpr ImageModule kModule{kImageModuleVersion, &write_layers, &read_first};
+
+}  // namespace
+}  // namespace fortu
+
+extern "C" __attribute__((visibility("default"))) const fortu::ImageModule* fortu_image_module() {
+    return &fortu::kModule;
+}

@@ -1,6 +1,6 @@
 // runtime/image_compare.hpp — comparing an image fortu wrote with a reference image, through
 // OpenImageIO's ImageBufAlgo::compare, and drawing where they differ. Used by `fortu golden`
-// (style.md rule 9: images are compared with a stated tolerance, via OpenImageIO).
+// (style.md rule 9). The OpenImageIO code runs inside the image module (image_io.hpp).
 #pragma once
 
 #include <string>
@@ -35,5 +35,12 @@ ImageComparison compare_images(const std::string& expected_path, const std::stri
 /// Returns an error text, or "" on success. Written atomically.
 std::string write_diff_image(const std::string& expected_path, const std::string& actual_path,
                              int subimage, const std::string& diff_path);
+
+/// The module side of the two functions above (image_compare_oiio.cpp, in libfortu_image.so):
+/// plain OpenImageIO, writing the difference straight to `file`.
+ImageComparison oiio_compare_images(const std::string& expected_path, const std::string& actual_path,
+                                    double tolerance);
+std::string oiio_write_difference(const std::string& expected_path, const std::string& actual_path,
+                                  int subimage, const std::string& file);
 
 }  // namespace fortu

@@ -9,6 +9,7 @@
 #include "interp/classic_cost.hpp"
 #include "interp/ir_print.hpp"
 #include "interp/lower.hpp"
+#include "interp/singular.hpp"
 #include "runtime/atomic_file.hpp"
 #include "runtime/image_compare.hpp"
 #include "runtime/output.hpp"
@@ -203,6 +204,7 @@ private:
     void check_points(const Model& model, const std::vector<EngineKind>& engines);
     void check_point(const PointExpectation& e, double v, const std::string& label);
     void check_files(const Model& model, const Grid& grid, const std::vector<EngineKind>& engines);
+    void check_singular(const Model& model);
     void check_file(const Field& field, const std::string& kind, const std::string& label, bool first_engine);
     std::string expected_path(const std::string& kind) const { return test_.expected_stem + ".expected." + kind; }
     std::string beside(const std::string& what, const std::string& kind) const {
@@ -237,7 +239,11 @@ bool TestRun::check_errors(const DiagnosticSink& sink) {
         const std::string& first = script_lines_[test_.errors[0].line - 1];
         const std::string prefix = first.substr(0, first.find("expect-error")) + "expect-error ";
         std::string joined;
-        for (const std::string& a : actual) joined += (joined.empty() ? "" : "\n") + prefix + a;
+        for (const std::string& a : actual) {
+            if (!joined.empty()) joined += '\n';
+            joined += prefix;
+            joined += a;
+        }
         script_edits_[test_.errors[0].line] = joined;
         for (std::size_t i = 1; i < test_.errors.size(); ++i) script_edits_[test_.errors[i].line] = std::nullopt;
         updated("the script's expect-error lines");
@@ -285,7 +291,9 @@ void TestRun::check_points(const Model& model, const std::vector<EngineKind>& en
         for (std::size_t i = 0; i < e.point.size(); ++i) p[i] = e.point[i];
         std::vector<double> values;
         for (EngineKind engine : engines) values.push_back(evaluate_point(model, p, engine).value);
-        if (same_values(values, std::vector<double>(values.size(), values[0]))) {
+        bool agree = true;
+        for (double v : values) agree = agree && same_values(std::span(&v, 1), std::span(values.data(), 1));
+        if (agree) {
             check_point(e, values[0], engines_label(engines));
         } else {
             for (std::size_t i = 0; i < engines.size(); ++i) check_point(e, values[i], engine_name(engines[i]));
@@ -415,6 +423,64 @@ void TestRun::check_file(const Field& field, const std::string& kind, const std:
     fail(message);
 }
 
+/// The points as `(x, y[, z])`, space-separated.
+std::string points_text(const std::vector<std::array<double, 3>>& points, int dims) {
+    std::string s;
+    for (const auto& p : points) {
+        if (!s.empty()) s += ' ';
+        s += dims == 3 ? fmt::format("({}, {}, {})", p[0], p[1], p[2]) : fmt::format("({}, {})", p[0], p[1]);
+    }
+    return s.empty() ? "none" : s;
+}
+
+void TestRun::check_singular(const Model& model) {
+    // The search grid of `fortu singular` (401x401, 48x48x48 over the script's domain), so its
+    // output can be pasted into the test. Points match within 1e-6 (or golden-tolerance if
+    // larger) in 2D, where they are refined to ~1e-12; within one search step in 3D, where
+    // each is one point on an edge curve.
+    Grid grid;
+    grid.dims = model.dims();
+    Axis* axes[3] = {&grid.x, &grid.y, &grid.z};
+    for (int a = 0; a < 3; ++a) {
+        const AxisRange r = a < static_cast<int>(model.arguments.size()) && model.ranges[a] ? *model.ranges[a]
+                                                                                            : AxisRange{};
+        axes[a]->min = r.min;
+        axes[a]->max = r.max;
+        axes[a]->nodes = grid.dims == 3 ? 48 : a < 2 ? 401 : 1;
+    }
+    if (model.arguments.size() == 1) grid.y.nodes = 1;
+    std::vector<std::array<double, 3>> found;
+    for (const SingularPoint& p : find_singular_points(model, grid)) found.push_back(p.point);
+    std::vector<std::array<double, 3>> expected;
+    for (const SingularExpectation& s : test_.singular) expected.insert(expected.end(), s.points.begin(), s.points.end());
+
+    const double step = std::max({grid.x.step(), grid.y.step(), grid.z.step()});
+    const double tol = grid.dims == 3 ? step : std::max(1e-6, test_.tolerance);
+    auto near = [&](const std::array<double, 3>& a, const std::array<double, 3>& b) {
+        for (int k = 0; k < grid.dims; ++k)
+            if (std::fabs(a[k] - b[k]) > tol) return false;
+        return true;
+    };
+    std::vector<std::array<double, 3>> missing, extra;
+    for (const auto& e : expected)
+        if (std::none_of(found.begin(), found.end(), [&](const auto& f) { return near(e, f); })) missing.push_back(e);
+    for (const auto& f : found)
+        if (std::none_of(expected.begin(), expected.end(), [&](const auto& e) { return near(e, f); })) extra.push_back(f);
+    if (missing.empty() && extra.empty()) return;
+    if (options_.update) {
+        const std::string& first = script_lines_[test_.singular[0].line - 1];
+        script_edits_[test_.singular[0].line] =
+            first.substr(0, first.find("expect-singular")) + "expect-singular " + points_text(found, grid.dims);
+        for (std::size_t i = 1; i < test_.singular.size(); ++i) script_edits_[test_.singular[i].line] = std::nullopt;
+        return updated("the script's expect-singular lines");
+    }
+    std::string message = fmt::format("line {}: the singular points differ (matched within {})", test_.singular[0].line, tol);
+    if (!missing.empty()) message += "\n  expected, not found: " + points_text(missing, grid.dims);
+    if (!extra.empty()) message += "\n  found, not expected: " + points_text(extra, grid.dims);
+    message += "\n  found: " + points_text(found, grid.dims);
+    fail(message);
+}
+
 void TestRun::check_files(const Model& model, const Grid& grid, const std::vector<EngineKind>& engines) {
     if (kinds_.empty()) return;
     std::vector<EngineKind> ran;
@@ -488,14 +554,10 @@ GoldenResult TestRun::run() {
                     point_engines.push_back(engine);
             if (!test_.points.empty() && !point_engines.empty()) check_points(*model, point_engines);
             check_files(*model, grid, engines);
+            if (!test_.singular.empty()) check_singular(*model);
         } catch (const std::exception& e) {
             fail(fmt::format("evaluation failed: {}", e.what()));
         }
-        // TODO(lead, issue 3 item 4): connect expect-singular once interp/singular.hpp lands:
-        //   const auto found = find_singular_points(*model, grid);  // then match test_.singular
-        //   points to `found` within one grid step, failing on a missing or an extra point.
-        for (const SingularExpectation& s : test_.singular)
-            fail(fmt::format("line {}: expect-singular is not supported yet (it needs `fortu singular`)", s.line));
     }
 
     if (!script_edits_.empty()) {

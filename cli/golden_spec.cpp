@@ -129,6 +129,10 @@ std::string parse_point(GoldenTest& t, const std::string& keyword, const std::st
 std::string parse_singular(GoldenTest& t, const std::string& rest, int line) {
     SingularExpectation e;
     e.line = line;
+    if (rest == "none") {  // the model has no singular point
+        t.singular.push_back(std::move(e));
+        return "";
+    }
     std::string text = rest;
     std::size_t at = 0;
     while ((at = text.find('(', at)) != std::string::npos) {
@@ -137,11 +141,11 @@ std::string parse_singular(GoldenTest& t, const std::string& rest, int line) {
         std::string inner = text.substr(at + 1, close - at - 1);
         std::replace(inner.begin(), inner.end(), ',', ' ');
         const auto point = coordinates(inner);
-        if (!point || point->size() < 2) return "expect-singular wants points `(X, Y[, Z]) ...`";
+        if (!point || point->size() < 2) return "expect-singular wants points `(X, Y[, Z]) ...` or `none`";
         e.points.push_back({(*point)[0], (*point)[1], point->size() == 3 ? (*point)[2] : 0.0});
         text.erase(at, close - at + 1);
     }
-    if (e.points.empty() || !trim(text).empty()) return "expect-singular wants points `(X, Y[, Z]) ...`";
+    if (e.points.empty() || !trim(text).empty()) return "expect-singular wants points `(X, Y[, Z]) ...` or `none`";
     t.singular.push_back(std::move(e));
     return "";
 }

@@ -28,7 +28,8 @@ struct ErrorExpectation {
     std::string text;      ///< `L:C: message` as written
 };
 
-/// `// expect-singular (x, y) ...`.
+/// `// expect-singular (x, y) ...` or `// expect-singular none`: together, the lines list every
+/// singular point `fortu singular` finds.
 struct SingularExpectation {
     int line = 0;
     std::vector<std::array<double, 3>> points;

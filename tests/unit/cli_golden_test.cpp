@@ -230,7 +230,7 @@ TEST_CASE("values: npy, csv and svg references compared with the stated toleranc
     CHECK(t.has("v.values-diff.png"));
 }
 
-TEST_CASE("malformed directives, missing expectations and expect-singular fail, never pass silently") {
+TEST_CASE("malformed directives, missing expectations and wrong singular points fail, never pass silently") {
     TempDir t;
     t.write("typo.fortu", "// expect-valeu 0 0: 1\n// golden-size 0x4\nARGUMENT X, Y;\nRETURN X;\n");
     t.write("none.fortu", "ARGUMENT X, Y;\nRETURN X;\n");
@@ -243,7 +243,9 @@ TEST_CASE("malformed directives, missing expectations and expect-singular fail, 
           "FAIL args.fortu: line 1: expect-inside gives 3 coordinate(s); the model has 2 argument(s)\n"
           "FAIL none.fortu: no expectations: add `// expect-...` lines, or NAME.expected.{png,exr,npy,csv,svg} "
           "files or `// golden-output` for --update to create\n"
-          "FAIL singular.fortu: line 1: expect-singular is not supported yet (it needs `fortu singular`)\n"
+          "FAIL singular.fortu: line 1: the singular points differ (matched within 1e-06)\n"
+          "    expected, not found: (0, 0)\n"
+          "    found: none\n"
           "FAIL typo.fortu: line 1: unknown directive 'expect-valeu'\n"
           "  line 2: golden-size: '0x4' is not N, WxH or WxHxD (positive node counts)\n"
           "FAIL value.fortu: line 1: expect-value wants `X Y[ Z]: VALUE [+- TOLERANCE]`\n"
@@ -324,4 +326,24 @@ TEST_CASE("a 3D EXR reference: the worst pixel names its slice and every channel
           "    diff image: ball.diff.exr\n"
           "1 test: 0 passed, 1 failed\n");
     CHECK(t.has("ball.diff.exr"));
+}
+
+TEST_CASE("expect-singular lists the points `fortu singular` finds; --update rewrites the list") {
+    TempDir t;
+    // Two discs crossing on X = 0 at Y = +-sqrt(0.5 - 0.09): their union has two corners there.
+    const std::string body = "ARGUMENT X(-1, 1), Y(-1, 1);\nVARIABLE A = 0.5 - (X-0.3)^2 - Y^2;\n"
+                             "VARIABLE B = 0.5 - (X+0.3)^2 - Y^2;\nRETURN A | B;\n";
+    t.write("corner.fortu", "// expect-singular (0, 0.6403124237)\n// expect-singular (0, -0.6403124237)\n" + body);
+    CHECK(t.golden("corner.fortu").out == "PASS corner.fortu\n1 test: 1 passed, 0 failed\n");
+    t.write("corner.fortu", "// expect-singular (0, 0.64)\n// expect-singular none\n" + body);
+    CHECK(t.golden("corner.fortu").out ==
+          "FAIL corner.fortu: line 1: the singular points differ (matched within 1e-06)\n"
+          "    expected, not found: (0, 0.64)\n"
+          "    found, not expected: (0, -0.640312423743) (0, 0.640312423743)\n"
+          "    found: (0, -0.640312423743) (0, 0.640312423743)\n"
+          "1 test: 0 passed, 1 failed\n");
+    CHECK(t.golden("corner.fortu --update").out ==
+          "UPDATE corner.fortu: rewrote the script's expect-singular lines\n1 test: 1 passed, 0 failed\n");
+    CHECK(t.read("corner.fortu") == "// expect-singular (0, -0.640312423743) (0, 0.640312423743)\n" + body);
+    CHECK(t.golden("corner.fortu").status == 0);
 }

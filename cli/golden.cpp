@@ -27,7 +27,7 @@ beside it (NAME.expected.png|exr|npy|csv|svg, made and refreshed by --update):
   // expect-inside X Y[ Z]                   value > 0 (also expect-outside < 0,
                                              expect-boundary = 0)
   // expect-error LINE:COL: MESSAGE          the script's errors, in order
-  // expect-singular (X, Y) ...              singular points (needs `fortu singular`)
+  // expect-singular (X, Y) ... | none       every singular point `fortu singular` finds
   // golden-engine both|classic|voxel        default both (--engine overrides)
   // golden-size N | WxH | WxHxD ...         default RECTBMP, else 64x64 (2D), 16x16x16 (3D)
   // golden-tolerance T                      values, npy, csv, svg, exr (default 1e-9)

@@ -64,6 +64,12 @@ const Loaded& module() {
 
 }  // namespace
 
+const ImageModule* image_module(std::string& error) {
+    const Loaded& m = module();
+    if (!m.module) error = m.error;
+    return m.module;
+}
+
 std::string write_image_layers(const std::string& file, const std::vector<ImageLayer>& layers) {
     const Loaded& m = module();
     if (!m.module) return m.error;

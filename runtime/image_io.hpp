@@ -15,6 +15,8 @@
 
 namespace fortu {
 
+struct ImageComparison;  // image_compare.hpp
+
 /// One image, or one part of a multi-part file (a 3D EXR has one part per slice).
 struct ImageLayer {
     int cols = 0;
@@ -47,7 +49,14 @@ struct ImageModule {
     int version;
     std::string (*write)(const std::string& file, const std::vector<ImageLayer>& layers);
     bool (*read)(const std::string& file, ImageData& out, std::string& error);
+    /// image_compare.hpp's comparison and diff image, on OpenImageIO's ImageBufAlgo.
+    ImageComparison (*compare)(const std::string& expected, const std::string& actual, double tolerance);
+    std::string (*write_difference)(const std::string& expected, const std::string& actual, int subimage,
+                                    const std::string& file);
 };
-inline constexpr int kImageModuleVersion = 1;
+inline constexpr int kImageModuleVersion = 2;
+
+/// The loaded module, or nullptr with `error` set (why it cannot be found or loaded).
+const ImageModule* image_module(std::string& error);
 
 }  // namespace fortu

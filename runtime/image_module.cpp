@@ -1,5 +1,7 @@
 // runtime/image_module.cpp — the OpenImageIO plug-in (libfortu_image.so): the only code
-// that includes OpenImageIO. See image_io.hpp for why it is a module.
+// that includes OpenImageIO (with image_compare_oiio.cpp, linked into it). See image_io.hpp
+// for why it is a module.
+#include "runtime/image_compare.hpp"
 #include "runtime/image_io.hpp"
 
 #include <OpenImageIO/imageio.h>
@@ -60,7 +62,8 @@ bool read_first(const std::string& file, ImageData& data, std::string& error) {
     return true;
 }
 
-constexpr ImageModule kModule{kImageModuleVersion, &write_layers, &read_first};
+constexpr ImageModule kModule{kImageModuleVersion, &write_layers, &read_first, &oiio_compare_images,
+                              &oiio_write_difference};
 
 }  // namespace
 }  // namespace fortu

@@ -40,41 +40,50 @@ void run_tape(const Tape& tape, T* slots, int stride, int lanes) {
     }
 }
 
-}  // namespace
-
-void voxel_evaluate_grid(const ir::Graph& graph, ir::NodeId root, Field& field, const EvalOptions& options) {
+/// The grid in tiles of kTileSize points, each tile's slots in the number type T.
+template <class T>
+void evaluate_tiles(const Tape& tape, Field& field, const EvalOptions& options) {
     const Grid& grid = field.grid;
-    const Tape tape = compile_tape(graph, root);
     const std::size_t points = grid.points();
     const std::size_t tiles = (points + kTileSize - 1) / kTileSize;
     const std::size_t plane = static_cast<std::size_t>(grid.cols()) * grid.rows();
 
-    // One slot buffer per worker, reused for all its tiles; constants are filled once.
-    std::vector<std::vector<double>> workspaces(worker_count(tiles, options));
-    for (std::vector<double>& slots : workspaces) {
-        slots.assign(static_cast<std::size_t>(tape.slot_count) * kTileSize, 0.0);
+    // One slot buffer per worker, allocated before the loop and reused for all its tiles
+    // (nothing is allocated per tile); constants are filled once.
+    std::vector<std::vector<T>> workspaces(worker_count(tiles, options));
+    for (std::vector<T>& slots : workspaces) {
+        slots.assign(static_cast<std::size_t>(tape.slot_count) * kTileSize, T(0));
         for (auto [slot, value] : tape.constants)
-            std::fill_n(slots.begin() + static_cast<std::ptrdiff_t>(slot) * kTileSize, kTileSize, value);
+            std::fill_n(slots.begin() + static_cast<std::ptrdiff_t>(slot) * kTileSize, kTileSize, T(value));
     }
 
     parallel_for(tiles, options, [&](std::size_t tile, int worker) {
-        double* slots = workspaces[worker].data();
+        T* slots = workspaces[worker].data();
         const std::size_t start = tile * kTileSize;
         const int lanes = static_cast<int>(std::min<std::size_t>(kTileSize, points - start));
         for (auto [slot, axis] : tape.arguments) {
-            double* lane_values = slots + static_cast<std::size_t>(slot) * kTileSize;
+            T* lane_values = slots + static_cast<std::size_t>(slot) * kTileSize;
             for (int l = 0; l < lanes; ++l) {
                 const std::size_t p = start + l;
-                lane_values[l] = axis == 0 ? grid.x_at(static_cast<int>(p % grid.cols()))
-                               : axis == 1 ? grid.y_at(static_cast<int>((p / grid.cols()) % grid.rows()))
-                                           : grid.z_at(static_cast<int>(p / plane));
+                lane_values[l] = T(axis == 0 ? grid.x_at(static_cast<int>(p % grid.cols()))
+                                 : axis == 1 ? grid.y_at(static_cast<int>((p / grid.cols()) % grid.rows()))
+                                             : grid.z_at(static_cast<int>(p / plane)));
             }
         }
         run_tape(tape, slots, kTileSize, lanes);
-        std::copy_n(slots + static_cast<std::size_t>(tape.root_slot) * kTileSize, lanes,
-                    field.values.begin() + static_cast<std::ptrdiff_t>(start));
+        const T* result = slots + static_cast<std::size_t>(tape.root_slot) * kTileSize;
+        double* out = field.values.data() + start;
+        for (int l = 0; l < lanes; ++l) out[l] = double(result[l]);
         return static_cast<std::size_t>(lanes);
     });
+}
+
+}  // namespace
+
+void voxel_evaluate_grid(const ir::Graph& graph, ir::NodeId root, Field& field, const EvalOptions& options) {
+    const Tape tape = compile_tape(graph, root);
+    if (options.precision == Precision::Float32) evaluate_tiles<float>(tape, field, options);
+    else evaluate_tiles<double>(tape, field, options);
 }
 
 PointEvaluator::PointEvaluator(const ir::Graph& graph, ir::NodeId root) : tape_(compile_tape(graph, root)) {}

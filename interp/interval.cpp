@@ -82,6 +82,17 @@ Interval interval_op(ir::Op op, const Interval& a, const Interval& b, const Inte
         if (!(b.lo > 0 || b.hi < 0)) return kUnknownInterval;
         return checked(from_corners(a.lo / b.lo, a.lo / b.hi, a.hi / b.lo, a.hi / b.hi, nan2));
     case Op::Pow:
+        // A constant whole exponent n (X^2 in scripts): monotone in a for odd n, in |a|
+        // for even n; std::pow is within an ulp there.
+        if (b.lo == b.hi && !b.maybe_nan && b.lo == std::floor(b.lo) && std::abs(b.lo) <= 64 &&
+            (b.lo > 0 || a.lo > 0 || a.hi < 0)) {
+            const double n = b.lo;
+            const bool even = std::fmod(n, 2.0) == 0;
+            double lo = std::pow(a.lo, n), hi = std::pow(a.hi, n);
+            if (lo > hi) std::swap(lo, hi);
+            if (even && a.lo < 0 && a.hi > 0) lo = 0;  // n > 0 here (a straddles 0)
+            return checked(widened(lo, hi, a.maybe_nan));
+        }
         // a > 0: monotone in each operand, so the corners bound it.
         if (a.lo > 0) {
             const Interval r = from_corners(std::pow(a.lo, b.lo), std::pow(a.lo, b.hi), std::pow(a.hi, b.lo),

@@ -29,9 +29,10 @@ struct SignRenderStats {
 
 /// The sign of the model at every grid node: 1 inside, 0 on the boundary, -1 outside, NaN
 /// where the value is not a number (±inf keeps its sign). Equals the sign of the full
-/// evaluation (float64) point for point, except where the full formula of an R-operation
-/// rounds a nonzero result to 0 (one operand below 2^-53 of the other): there the pruned
-/// renderer gives the exact sign of the R-function.
+/// evaluation (float64) point for point, with one exception: where an R-operand is below
+/// the other's rounding error (2^-53 of it, e.g. a line through a grid node, whose value
+/// there is a residue ~1e-15), the full R-formula rounds the result to exactly 0 and the
+/// pruned renderer gives that operand's sign, as sign(a & b) = sign(min(a, b)) says.
 Field sign_render(const ir::Graph& graph, ir::NodeId root, const Grid& grid, const EvalOptions& options = {},
                   SignRenderStats* stats = nullptr);
 

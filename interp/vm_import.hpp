@@ -18,7 +18,8 @@ namespace fortu {
 bool is_vm_path(std::string_view path);
 
 /// Parses a .vm file. Arguments are X, Y (and Z when var-z occurs), ranges [-1, 1]; the
-/// root is the negated last value (FORTU: positive inside). Errors go to `sink`, located at
+/// root is the negated last value (FORTU: positive inside). The R0 formulas
+/// a + b ∓ sqrt(a² + b²) become R-operations (same value bit for bit), so they prune. Errors go to `sink`, located at
 /// the offending token; returns nullopt on any error.
 std::optional<Model> import_vm(std::shared_ptr<const SourceFile> source, DiagnosticSink& sink);
 

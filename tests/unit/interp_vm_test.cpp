@@ -119,3 +119,20 @@ TEST_CASE("malformed .vm files: located diagnostics") {
           "^\n"
           "note: a .vm model is lines NAME OP ARGS...; the last one is the result\n");
 }
+
+TEST_CASE("the R0 formula a + b - sqrt(a² + b²) becomes an R-conjunction with the same value") {
+    Imported r = import_text("x var-x\ny var-y\ns add x y\na2 square x\nb2 square y\nq add a2 b2\n"
+                             "r sqrt q\ng sub s r\n");
+    REQUIRE_MESSAGE(r.model, r.sink.render_all());
+    const ir::Node& neg = r.model->graph.node(r.model->root);
+    REQUIRE(neg.op == ir::Op::Neg);
+    CHECK(r.model->graph.node(neg.args[0]).op == ir::Op::RAnd);
+    CHECK(r.model->graph.node(neg.args[0]).imm == 0.0);
+    const double x = 0.3, y = -0.7;
+    CHECK(evaluate_point(*r.model, {x, y, 0}, EngineKind::Voxel).value == -((x + y) - std::sqrt(x * x + y * y)));
+    // With other operands it stays arithmetic.
+    Imported plain = import_text("x var-x\ny var-y\ns add x y\na2 square x\nb2 square x\nq add a2 b2\n"
+                                 "r sqrt q\ng sub s r\n");
+    REQUIRE(plain.model);
+    CHECK(plain.model->graph.node(plain.model->graph.node(plain.model->root).args[0]).op == ir::Op::Sub);
+}

@@ -34,6 +34,8 @@ struct CliOptions {
     double budget = 1e10;                      ///< classic operations per run before refusing (~1 min here)
     int threads = 0;
     bool float32 = false;                      ///< --float32 for .npy output
+    Precision precision = Precision::Float64;  ///< --precision (voxel engine)
+    bool sign_only = false;                    ///< --sign-only: interval-pruned sign render
 };
 
 /// Parses argv (without the program name). Throws UsageError.

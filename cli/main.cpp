@@ -9,7 +9,9 @@
 #include "interp/engine.hpp"
 #include "interp/ir_print.hpp"
 #include "interp/lower.hpp"
+#include "interp/sign_render.hpp"
 #include "interp/singular.hpp"
+#include "interp/vm_import.hpp"
 #include "runtime/field_stats.hpp"
 #include "runtime/fv_model.hpp"
 #include "runtime/output.hpp"
@@ -30,12 +32,6 @@ namespace {
 constexpr int kExitModelError = 1;
 constexpr int kExitUsage = 2;
 
-
-struct Loaded {
-    std::optional<Model> model;
-    DiagnosticSink sink;
-};
-
 /// Reads and compiles MODEL; prints its diagnostics (notes only when asked).
 std::optional<Model> load_model(const CliOptions& o, bool show_notes, double& seconds) {
     Stopwatch clock;
@@ -49,7 +45,7 @@ std::optional<Model> load_model(const CliOptions& o, bool show_notes, double& se
     CompileOptions options;
     options.rsystem = o.rsystem;
     options.include_dirs = installed_stdlib_dirs();
-    std::optional<Model> model = compile(source, options, sink);
+    std::optional<Model> model = is_vm_path(o.positional[0]) ? import_vm(source, sink) : compile(source, options, sink);
     for (const Diagnostic& d : sink.diagnostics())
         if (d.severity != Severity::Note || show_notes) std::cerr << render(d);
     seconds = clock.seconds();
@@ -227,9 +223,11 @@ int command_run(const CliOptions& o) {
     Progress progress(fmt::format("{} {}", engine_name(o.engine), grid_text(grid)), grid.points());
     EvalOptions eval;
     eval.threads = o.threads;
+    eval.precision = o.precision;
     eval.progress = [&](std::size_t n) { progress.advance(n); };
     Stopwatch clock;
-    Field field = evaluate_grid(*model, grid, o.engine, eval);
+    Field field = o.sign_only ? sign_render(model->graph, model->root, grid, eval)
+                              : evaluate_grid(*model, grid, o.engine, eval);
     const double eval_seconds = clock.seconds();
     const std::size_t eval_peak = peak_rss_bytes();  // before any image writer loads OpenImageIO
     progress.finish();
@@ -267,7 +265,7 @@ int command_run(const CliOptions& o) {
             "model: {}\ngrid: {} = {} points, x [{}, {}], y [{}, {}]{}\n"
             "nodes: {} ({} operations), shared: {}, hash-consing reuses: {}\n"
             "classic cost: {} operations per point; voxel: {}\n"
-            "engine: {}, threads: {}\n"
+            "engine: {}{}, threads: {}\n"
             "time: compile {:.3f} s, evaluate {:.3f} s, write {:.3f} s\n"
             "speed: {} points/s\n"
             "values: min {}, max {}, inside {}, boundary {}, outside {}, invalid {}\n"
@@ -275,7 +273,8 @@ int command_run(const CliOptions& o) {
             o.positional[0], grid_text(grid), format_operations(double(grid.points())), grid.x.min, grid.x.max,
             grid.y.min, grid.y.max, grid.dims == 3 ? fmt::format(", z [{}, {}]", grid.z.min, grid.z.max) : "",
             s.nodes, s.operations, s.shared, s.reuses, format_operations(s.classic_operations),
-            format_operations(double(s.operations)), engine_name(o.engine), o.threads > 0 ? o.threads : int(std::max(1u, std::thread::hardware_concurrency())),
+            format_operations(double(s.operations)), o.sign_only ? "interval sign renderer" : engine_name(o.engine),
+            o.engine == EngineKind::Voxel && !o.sign_only && o.precision == Precision::Float32 ? " (float32)" : "", o.threads > 0 ? o.threads : int(std::max(1u, std::thread::hardware_concurrency())),
             compile_seconds, eval_seconds, write_seconds,
             format_operations(eval_seconds > 0 ? double(grid.points()) / eval_seconds : 0.0),
             stats.min, stats.max, stats.positive, stats.zero, stats.negative, stats.invalid,

@@ -20,8 +20,13 @@ enum class EngineKind { Classic, Voxel };
 std::optional<EngineKind> parse_engine(const std::string& name);
 const char* engine_name(EngineKind kind);
 
+/// The voxel engine's number type: float64 (default: values identical to the classic
+/// engine's) or float32 (twice the lanes per vector; see README "Performance" for the tolerance).
+enum class Precision { Float64, Float32 };
+
 struct EvalOptions {
     int threads = 0;                                   ///< 0: all cores
+    Precision precision = Precision::Float64;          ///< voxel engine only
     std::function<void(std::size_t points)> progress;  ///< called as tiles/rows complete
     const std::atomic<bool>* cancel = nullptr;         ///< set to stop early (REPL Ctrl-C)
 };

@@ -31,10 +31,11 @@ Tape compile_tape(const ir::Graph& graph, ir::NodeId root) {
         return s;
     };
 
-    // Leaves get permanent slots: constants are filled once per worker, arguments per tile.
+    // Arguments get permanent slots, filled per tile; constants are immediates of the
+    // instructions that read them, and need a slot only as the root (a constant model).
     for (ir::NodeId id : order) {
         const ir::Node& n = graph.node(id);
-        if (n.op == ir::Op::Const) {
+        if (n.op == ir::Op::Const && id == root) {
             slot[id] = next_slot++;
             tape.constants.emplace_back(slot[id], n.imm);
         } else if (n.op == ir::Op::Arg) {
@@ -47,18 +48,26 @@ Tape compile_tape(const ir::Graph& graph, ir::NodeId root) {
         const ir::NodeId id = order[i];
         const ir::Node& n = graph.node(id);
         if (ir::op_flags(n.op) & ir::kLeaf) continue;
-        Instruction ins{n.op, 0, {tape.zero_slot, tape.zero_slot, tape.zero_slot}, n.imm};
+        Instruction ins{n.op, 0, 0, {tape.zero_slot, tape.zero_slot, tape.zero_slot}, n.imm, {0.0, 0.0, 0.0}};
         const int arity = ir::op_arity(n.op);
-        for (int k = 0; k < arity; ++k) ins.in[k] = slot[n.args[k]];
-        // Free operands whose last use is here before allocating the result: element-wise
-        // kernels read lane l of every operand before writing lane l of the result.
+        for (int k = 0; k < arity; ++k) {
+            ins.in[k] = slot[n.args[k]];
+            if (graph.node(n.args[k]).op == ir::Op::Const) {
+                ins.constant_operands |= static_cast<uint8_t>(1u << k);
+                ins.constant[k] = graph.node(n.args[k]).imm;
+                ins.in[k] = tape.zero_slot;
+            }
+        }
+        // The result gets its slot before the operands that die here are freed, so it never
+        // shares a slot with an operand: the lane loops then take `restrict` pointers and
+        // vectorise without run-time overlap checks.
+        slot[id] = allocate();
         for (int k = 0; k < arity; ++k) {
             const ir::NodeId a = n.args[k];
             const bool leaf = ir::op_flags(graph.node(a).op) & ir::kLeaf;
             const bool seen_before = std::find(n.args.begin(), n.args.begin() + k, a) != n.args.begin() + k;
             if (!leaf && !seen_before && last_use[a] == i) free_slots.push_back(slot[a]);
         }
-        slot[id] = allocate();
         ins.out = slot[id];
         tape.code.push_back(ins);
     }

@@ -14,17 +14,22 @@
 
 namespace fortu {
 
+/// out := op(in...). An operand that is a constant is an immediate instead of a slot
+/// (bit k of `constant_operands` set, value in `constant[k]`): constants then take no tile
+/// memory (prospero.vm has 1406 of them) and the lane loops read a register.
 struct Instruction {
     ir::Op op;
+    uint8_t constant_operands = 0;
     uint32_t out;
     uint32_t in[ir::kMaxArity];
     double imm;
+    double constant[ir::kMaxArity] = {0.0, 0.0, 0.0};
 };
 
 struct Tape {
     std::vector<Instruction> code;     ///< non-leaf nodes in topological order
     uint32_t slot_count = 0;           ///< includes the constant and argument slots
-    std::vector<std::pair<uint32_t, double>> constants;  ///< slot, value (filled once)
+    std::vector<std::pair<uint32_t, double>> constants;  ///< slot, value (filled once): only a constant root
     std::vector<std::pair<uint32_t, int>> arguments;     ///< slot, axis (filled per tile)
     uint32_t zero_slot = 0;            ///< all zeros: the unused operands read it
     uint32_t root_slot = 0;

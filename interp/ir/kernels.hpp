@@ -43,6 +43,33 @@ inline double k_min(double a, double b) { return (a < b || a != a) ? a : b; }
 inline double k_max(double a, double b) { return (a > b || a != a) ? a : b; }
 inline double k_select(double c, double a, double b) { return c > 0 ? a : (c != c ? c : b); }
 
+// ---- float (the voxel engine's float32 mode: same formulas, single precision) ----
+inline float k_sqrt(float a) { return std::sqrt(a); }
+inline float k_abs(float a) { return std::fabs(a); }
+inline float k_exp(float a) { return std::exp(a); }
+inline float k_log(float a) { return std::log(a); }
+inline float k_log10(float a) { return std::log10(a); }
+inline float k_log2(float a) { return std::log2(a); }
+inline float k_sin(float a) { return std::sin(a); }
+inline float k_cos(float a) { return std::cos(a); }
+inline float k_tan(float a) { return std::tan(a); }
+inline float k_asin(float a) { return std::asin(a); }
+inline float k_acos(float a) { return std::acos(a); }
+inline float k_atan(float a) { return std::atan(a); }
+inline float k_atan2(float a, float b) { return std::atan2(a, b); }
+inline float k_sinh(float a) { return std::sinh(a); }
+inline float k_cosh(float a) { return std::cosh(a); }
+inline float k_tanh(float a) { return std::tanh(a); }
+inline float k_sign(float a) { return a > 0 ? 1.0f : a < 0 ? -1.0f : a; }
+inline float k_floor(float a) { return std::floor(a); }
+inline float k_ceil(float a) { return std::ceil(a); }
+inline float k_mod(float a, float b) { return std::fmod(a, b); }
+inline float k_hypot(float a, float b) { return std::hypot(a, b); }
+inline float k_pow(float a, float b) { return std::pow(a, b); }
+inline float k_min(float a, float b) { return (a < b || a != a) ? a : b; }
+inline float k_max(float a, float b) { return (a > b || a != a) ? a : b; }
+inline float k_select(float c, float a, float b) { return c > 0 ? a : (c != c ? c : b); }
+
 // ---- Dual (forward-mode derivatives) ----
 inline Dual k_sqrt(const Dual& a) { double s = std::sqrt(a.v); return chain(a, s, 0.5 / s); }
 inline Dual k_abs(const Dual& a) { return chain(a, std::fabs(a.v), a.v < 0 ? -1.0 : 1.0); }

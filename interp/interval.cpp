@@ -1,0 +1,162 @@
+// interp/interval.cpp — the interval kernels. Anything not bounded here is kUnknownInterval,
+// which is always correct: pruning then simply does not happen for that node.
+#include "interp/interval.hpp"
+
+#include "interp/ir/kernels.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace fortu {
+namespace {
+
+constexpr double kEps = std::numeric_limits<double>::epsilon();
+
+/// Widening for libm results (not guaranteed correctly rounded): a few ulps each way.
+Interval widened(double lo, double hi, bool maybe_nan) {
+    return {lo - std::abs(lo) * 8 * kEps, hi + std::abs(hi) * 8 * kEps, maybe_nan};
+}
+
+Interval checked(Interval r) {
+    if (!std::isfinite(r.lo) || !std::isfinite(r.hi) || r.lo > r.hi) return kUnknownInterval;
+    return r;
+}
+
+Interval from_corners(double p, double q, double r, double s, bool maybe_nan) {
+    return {std::min({p, q, r, s}), std::max({p, q, r, s}), maybe_nan};
+}
+
+/// Whether some t0 + k·period (k integer) lies in [lo, hi].
+bool contains_periodic(double lo, double hi, double t0, double period) {
+    const double k = std::ceil((lo - t0) / period - 1e-9);
+    return t0 + k * period <= hi + 1e-9;
+}
+
+Interval sin_interval(const Interval& a, double shift) {
+    // sin(x + shift): maxima where x + shift = π/2 + 2kπ, minima at -π/2 + 2kπ.
+    constexpr double kPi = std::numbers::pi;
+    if (a.hi - a.lo >= 2 * kPi) return {-1.0, 1.0, a.maybe_nan};
+    const double p = shift == 0 ? std::sin(a.lo) : std::cos(a.lo);
+    const double q = shift == 0 ? std::sin(a.hi) : std::cos(a.hi);
+    Interval r = widened(std::min(p, q), std::max(p, q), a.maybe_nan);
+    if (contains_periodic(a.lo, a.hi, kPi / 2 - shift, 2 * kPi)) r.hi = 1.0;
+    if (contains_periodic(a.lo, a.hi, -kPi / 2 - shift, 2 * kPi)) r.lo = -1.0;
+    r.lo = std::max(r.lo, -1.0);
+    r.hi = std::min(r.hi, 1.0);
+    return r;
+}
+
+/// R-conjunction/disjunction: monotone non-decreasing in both operands for every alpha in
+/// (-1, 1] (∂/∂a = (1 ∓ (a − αb)/√(a² + b² − 2αab))/(1 + α) ≥ 0), so the range is the
+/// formula at the low and high corners; widened by the formula's rounding error, a few
+/// ulps of the operands' magnitude.
+Interval r_interval(bool conjunction, const Interval& a, const Interval& b, double alpha) {
+    if (alpha == 1.0)
+        return conjunction ? Interval{std::min(a.lo, b.lo), std::min(a.hi, b.hi), a.maybe_nan || b.maybe_nan}
+                           : Interval{std::max(a.lo, b.lo), std::max(a.hi, b.hi), a.maybe_nan || b.maybe_nan};
+    auto r = [&](double x, double y) {
+        return conjunction ? ir::r_conjunction(ir::value_of(x), ir::value_of(y), alpha)
+                           : ir::r_disjunction(ir::value_of(x), ir::value_of(y), alpha);
+    };
+    const double scale = std::max(std::abs(a.lo), std::abs(a.hi)) + std::max(std::abs(b.lo), std::abs(b.hi));
+    const double margin = 32 * kEps * scale;
+    return {r(a.lo, b.lo) - margin, r(a.hi, b.hi) + margin, a.maybe_nan || b.maybe_nan};
+}
+
+}  // namespace
+
+Interval interval_op(ir::Op op, const Interval& a, const Interval& b, const Interval& c, double imm) {
+    using ir::Op;
+    const int arity = ir::op_arity(op);
+    if (a.unknown() || (arity > 1 && b.unknown()) || (arity > 2 && c.unknown())) return kUnknownInterval;
+    const bool nan2 = a.maybe_nan || b.maybe_nan;
+    switch (op) {
+    case Op::Const:
+    case Op::Arg: return kUnknownInterval;
+    case Op::Neg: return {-a.hi, -a.lo, a.maybe_nan};
+    case Op::Add: return checked({a.lo + b.lo, a.hi + b.hi, nan2});
+    case Op::Sub: return checked({a.lo - b.hi, a.hi - b.lo, nan2});
+    case Op::Mul: return checked(from_corners(a.lo * b.lo, a.lo * b.hi, a.hi * b.lo, a.hi * b.hi, nan2));
+    case Op::Div:
+        if (!(b.lo > 0 || b.hi < 0)) return kUnknownInterval;
+        return checked(from_corners(a.lo / b.lo, a.lo / b.hi, a.hi / b.lo, a.hi / b.hi, nan2));
+    case Op::Pow:
+        // A constant whole exponent n (X^2 in scripts): monotone in a for odd n, in |a|
+        // for even n; std::pow is within an ulp there.
+        if (b.lo == b.hi && !b.maybe_nan && b.lo == std::floor(b.lo) && std::abs(b.lo) <= 64 &&
+            (b.lo > 0 || a.lo > 0 || a.hi < 0)) {
+            const double n = b.lo;
+            const bool even = std::fmod(n, 2.0) == 0;
+            double lo = std::pow(a.lo, n), hi = std::pow(a.hi, n);
+            if (lo > hi) std::swap(lo, hi);
+            if (even && a.lo < 0 && a.hi > 0) lo = 0;  // n > 0 here (a straddles 0)
+            return checked(widened(lo, hi, a.maybe_nan));
+        }
+        // a > 0: monotone in each operand, so the corners bound it.
+        if (a.lo > 0) {
+            const Interval r = from_corners(std::pow(a.lo, b.lo), std::pow(a.lo, b.hi), std::pow(a.hi, b.lo),
+                                            std::pow(a.hi, b.hi), nan2);
+            return checked(widened(r.lo, r.hi, r.maybe_nan));
+        }
+        return kUnknownInterval;
+    case Op::Square:
+        if (a.lo >= 0) return checked({a.lo * a.lo, a.hi * a.hi, a.maybe_nan});
+        if (a.hi <= 0) return checked({a.hi * a.hi, a.lo * a.lo, a.maybe_nan});
+        return checked({0.0, std::max(a.lo * a.lo, a.hi * a.hi), a.maybe_nan});
+    case Op::Sqrt:
+        if (a.hi < 0) return kUnknownInterval;
+        return {std::sqrt(std::max(a.lo, 0.0)), std::sqrt(a.hi), a.maybe_nan || a.lo < 0};
+    case Op::Abs:
+        if (a.lo >= 0) return a;
+        if (a.hi <= 0) return {-a.hi, -a.lo, a.maybe_nan};
+        return {0.0, std::max(-a.lo, a.hi), a.maybe_nan};
+    case Op::Exp: return checked(widened(std::exp(a.lo), std::exp(a.hi), a.maybe_nan));
+    case Op::Ln:
+    case Op::Log10:
+    case Op::Log2: {
+        if (!(a.lo > 0)) return kUnknownInterval;
+        auto f = [&](double x) { return op == Op::Ln ? std::log(x) : op == Op::Log10 ? std::log10(x) : std::log2(x); };
+        return checked(widened(f(a.lo), f(a.hi), a.maybe_nan));
+    }
+    case Op::Sin: return sin_interval(a, 0.0);
+    case Op::Cos: return sin_interval(a, std::numbers::pi / 2);
+    case Op::Asin:
+    case Op::Acos:
+        if (a.lo < -1 || a.hi > 1) return kUnknownInterval;
+        if (op == Op::Asin) return widened(std::asin(a.lo), std::asin(a.hi), a.maybe_nan);
+        return widened(std::acos(a.hi), std::acos(a.lo), a.maybe_nan);
+    case Op::Atan: return widened(std::atan(a.lo), std::atan(a.hi), a.maybe_nan);
+    case Op::Sinh: return checked(widened(std::sinh(a.lo), std::sinh(a.hi), a.maybe_nan));
+    case Op::Tanh: return widened(std::tanh(a.lo), std::tanh(a.hi), a.maybe_nan);
+    case Op::Cosh: {
+        const double m = std::max(std::abs(a.lo), std::abs(a.hi));
+        const double lo = (a.lo <= 0 && a.hi >= 0) ? 1.0 : std::cosh(std::min(std::abs(a.lo), std::abs(a.hi)));
+        Interval r = checked(widened(lo, std::cosh(m), a.maybe_nan));
+        if (!r.unknown()) r.lo = std::max(r.lo, 1.0);
+        return r;
+    }
+    case Op::Sign: return {ir::k_sign(a.lo), ir::k_sign(a.hi), a.maybe_nan};
+    case Op::Min: return {std::min(a.lo, b.lo), std::min(a.hi, b.hi), nan2};
+    case Op::Max: return {std::max(a.lo, b.lo), std::max(a.hi, b.hi), nan2};
+    case Op::Floor: return {std::floor(a.lo), std::floor(a.hi), a.maybe_nan};
+    case Op::Ceil: return {std::ceil(a.lo), std::ceil(a.hi), a.maybe_nan};
+    case Op::Hypot: {
+        auto low = [](const Interval& i) { return (i.lo <= 0 && i.hi >= 0) ? 0.0 : std::min(std::abs(i.lo), std::abs(i.hi)); };
+        auto high = [](const Interval& i) { return std::max(std::abs(i.lo), std::abs(i.hi)); };
+        Interval r = checked(widened(std::hypot(low(a), low(b)), std::hypot(high(a), high(b)), nan2));
+        if (!r.unknown()) r.lo = std::max(r.lo, 0.0);
+        return r;
+    }
+    case Op::Select:
+        // SELECT(c, x, y) = x where c > 0, NaN where c is NaN, else y (operands a=c, b=x, c=y).
+        if (a.positive()) return b;
+        if (a.hi <= 0 && !a.maybe_nan) return c;
+        return {std::min(b.lo, c.lo), std::max(b.hi, c.hi), a.maybe_nan || b.maybe_nan || c.maybe_nan};
+    case Op::RAnd: return checked(r_interval(true, a, b, imm));
+    case Op::ROr: return checked(r_interval(false, a, b, imm));
+    default: return kUnknownInterval;  // tan, atan2, mod: not bounded (always correct)
+    }
+}
+
+}  // namespace fortu

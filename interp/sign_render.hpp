@@ -1,0 +1,39 @@
+// interp/sign_render.hpp — interval-pruned rendering of a model's sign (inside, boundary,
+// outside, invalid) on a grid: a quadtree (2D) / octree (3D) over the grid's nodes.
+//
+// Why: a sign image or a contour does not need every value. Each box of the grid is
+// evaluated once with interval arithmetic (interval.hpp); a box whose range excludes 0 gets
+// one sign without touching its points; otherwise the tape is simplified for the box and
+// its sub-boxes (performance-notes.md ideas 4-7): a min/max whose one operand wins over the
+// whole box becomes that operand, and a node whose value matters only through its sign
+// (its users are R-operations, min, max, neg) collapses by sign(a &α b) = sign(min(a, b)),
+// sign(a |α b) = sign(max(a, b)) and becomes ±1 where its own sign is decided.
+#pragma once
+
+#include "interp/engine.hpp"
+#include "interp/ir/ir.hpp"
+#include "runtime/field.hpp"
+#include "runtime/grid.hpp"
+
+#include <cstddef>
+
+namespace fortu {
+
+/// Statistics of one pruned render (for --stats and tests).
+struct SignRenderStats {
+    std::size_t boxes = 0;          ///< boxes evaluated with intervals
+    std::size_t decided_points = 0; ///< points whose sign came from a box's interval
+    std::size_t leaf_points = 0;    ///< points evaluated one by one (on a simplified tape)
+    std::size_t leaf_operations = 0;///< tape operations run per point, summed over leaf points
+};
+
+/// The sign of the model at every grid node: 1 inside, 0 on the boundary, -1 outside, NaN
+/// where the value is not a number (±inf keeps its sign). Equals the sign of the full
+/// evaluation (float64) point for point, with one exception: where an R-operand is below
+/// the other's rounding error (2^-53 of it, e.g. a line through a grid node, whose value
+/// there is a residue ~1e-15), the full R-formula rounds the result to exactly 0 and the
+/// pruned renderer gives that operand's sign, as sign(a & b) = sign(min(a, b)) says.
+Field sign_render(const ir::Graph& graph, ir::NodeId root, const Grid& grid, const EvalOptions& options = {},
+                  SignRenderStats* stats = nullptr);
+
+}  // namespace fortu

@@ -1,0 +1,77 @@
+// tests/unit/cli_vm_test.cpp — the command line with .vm models, --sign-only and
+// --precision: they run, agree with the default mode, and misuse is a usage error.
+#include "cli_support.hpp"
+
+#include <doctest/doctest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+using namespace fortu::test;
+
+namespace {
+
+std::string vm(const char* name) { return quote(std::string(FORTU_SHARED_DIR) + "/data/" + name); }
+
+std::string read(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+}  // namespace
+
+TEST_CASE("check, eval and run accept .vm models") {
+    CommandResult check = run_fortu("check " + vm("bear.vm"), ".", true);
+    CHECK(check.status == 0);
+    CHECK(check.out == std::string(FORTU_SHARED_DIR) + "/data/bear.vm: ok (3 arguments, 657 nodes)\n");
+    CommandResult eval = run_fortu("eval " + vm("quarter.vm") + " -0.5 -0.25", ".", true);
+    CHECK(eval.status == 0);
+    CHECK(eval.out.rfind("value: 0.1875\n", 0) == 0);
+}
+
+TEST_CASE("a malformed .vm model is a located model error") {
+    const auto dir = std::filesystem::temp_directory_path() / "fortu_cli_vm_test";
+    std::filesystem::create_directories(dir);
+    std::ofstream(dir / "bad.vm") << "x var-x\ny frob x\n";
+    CommandResult r = run_fortu("run bad.vm", dir.string());
+    CHECK(r.status == 1);
+    CHECK(r.out == "bad.vm:2:3: error: unknown operation 'frob'\ny frob x\n  ^~~~\n"
+                   "note: known: var-x var-y var-z const add sub mul div max min neg square sqrt abs exp ln sin cos\n");
+}
+
+TEST_CASE("--sign-only writes the same sign as the full evaluation") {
+    const auto dir = std::filesystem::temp_directory_path() / "fortu_cli_vm_test";
+    std::filesystem::create_directories(dir);
+    REQUIRE(run_fortu("run " + vm("prospero.vm") + " --size 96 --sign-only -o sign.csv", dir.string()).status == 0);
+    REQUIRE(run_fortu("run " + vm("prospero.vm") + " --size 96 -o full.csv", dir.string()).status == 0);
+    std::istringstream sign(read(dir / "sign.csv")), full(read(dir / "full.csv"));
+    std::string a, b;
+    std::getline(sign, a);
+    std::getline(full, b);
+    int rows = 0, inside = 0;
+    while (std::getline(sign, a) && std::getline(full, b)) {
+        const double s = std::stod(a.substr(a.rfind(',') + 1));
+        const double f = std::stod(b.substr(b.rfind(',') + 1));
+        CHECK(s == (f > 0 ? 1.0 : f < 0 ? -1.0 : 0.0));
+        inside += s > 0;
+        ++rows;
+    }
+    CHECK(rows == 96 * 96);
+    CHECK(inside > 0);
+}
+
+TEST_CASE("--precision and --sign-only usage errors") {
+    CommandResult bad = run_fortu("run " + vm("hi.vm") + " --precision f16");
+    CHECK(bad.status == 2);
+    CHECK(bad.out == "fortu: error: --precision: 'f16' is not float64 or float32\n");
+    CommandResult classic = run_fortu("run " + vm("hi.vm") + " --sign-only --engine classic");
+    CHECK(classic.status == 2);
+    CHECK(classic.out == "fortu: error: --sign-only runs the interval renderer; it does not combine with --engine classic\n");
+    CommandResult mimages = run_fortu("run " + vm("hi.vm") + " --sign-only --mimages m.exr");
+    CHECK(mimages.status == 2);
+    CHECK(mimages.out == "fortu: error: --sign-only computes no values; the M-images need them (drop one of the two)\n");
+    CHECK(run_fortu("run " + vm("hi.vm") + " --precision float32 --size 32").status == 0);
+}

@@ -4,6 +4,8 @@
 #include "interp/ir/kernels.hpp"
 #include "interp/parallel.hpp"
 
+#include <cstdint>
+
 namespace fortu {
 namespace {
 
@@ -20,6 +22,10 @@ public:
     T eval(NodeId id) const {
         const Node& n = graph_.node(id);
         [[maybe_unused]] const double imm = n.imm;
+        // Counting every evaluation is also what keeps this engine honest: without a side
+        // effect GCC proves eval() pure (once sqrt sets no errno) and merges the repeated
+        // operand evaluations of an R-formula — memoising the engine that must not memoise.
+        ++evaluations_;
         switch (n.op) {
 #define FORTU_OP(name, arity, spelling, flags, formula_ops, expr)                         \
     case Op::name:                                                                        \
@@ -49,9 +55,13 @@ public:
         return T(ir::kNaN);
     }
 
+    /// Node evaluations so far: the expanded tree's node count, once per point.
+    std::uint64_t evaluations() const { return evaluations_; }
+
 private:
     const ir::Graph& graph_;
     const T* coords_;
+    mutable std::uint64_t evaluations_ = 0;
 };
 
 }  // namespace
@@ -79,6 +89,12 @@ PointValue classic_evaluate_point(const ir::Graph& graph, ir::NodeId root, std::
     ClassicWalker<ir::Dual> walker(graph, coords);
     ir::Dual r = walker.eval(root);
     return PointValue{r.v, {r.d[0], r.d[1], r.d[2]}};
+}
+
+std::uint64_t classic_node_evaluations(const ir::Graph& graph, ir::NodeId root, std::array<double, 3> point) {
+    ClassicWalker<double> walker(graph, point.data());
+    walker.eval(root);
+    return walker.evaluations();
 }
 
 }  // namespace fortu

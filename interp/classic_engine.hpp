@@ -11,9 +11,15 @@
 
 #include "interp/engine.hpp"
 
+#include <cstdint>
+
 namespace fortu {
 
 void classic_evaluate_grid(const ir::Graph& graph, ir::NodeId root, Field& field, const EvalOptions& options);
 PointValue classic_evaluate_point(const ir::Graph& graph, ir::NodeId root, std::array<double, 3> point);
+
+/// How many nodes the classic engine evaluates for one point: the size of the expanded tree
+/// (tests use it to show that nothing is saved between references).
+std::uint64_t classic_node_evaluations(const ir::Graph& graph, ir::NodeId root, std::array<double, 3> point);
 
 }  // namespace fortu

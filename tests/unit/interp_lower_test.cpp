@@ -3,6 +3,7 @@
 #include "interp_test_support.hpp"
 
 #include "interp/classic_cost.hpp"
+#include "interp/classic_engine.hpp"
 #include "interp/ir_print.hpp"
 
 #include <doctest/doctest.h>
@@ -86,6 +87,20 @@ TEST_CASE("classic cost doubles with each nested R0 operation") {
         if (depth > 1) CHECK(cost == 2 * previous + 8);
         previous = cost;
         CHECK(ir_stats(*c.model).operations == static_cast<std::size_t>(depth));
+        text += "VARIABLE W = W & X;\n";
+    }
+}
+
+TEST_CASE("the classic engine saves nothing: it evaluates every node of the expanded tree") {
+    // W1 = X & Y is 5 nodes expanded (the R-node, X and Y twice each); Wk = W(k-1) & X is
+    // 1 + 2 cost(W(k-1)) + 2: 8 * 2^(k-1) - 3. A memoising (or compiler-merged) walk would
+    // evaluate 2k + 1 nodes.
+    std::string text = "ARGUMENT X, Y;\nVARIABLE W = X & Y;\n";
+    for (int depth = 1; depth <= 16; ++depth) {
+        auto c = compile_text(text + "RETURN W;\n");
+        REQUIRE(c.model);
+        CHECK(classic_node_evaluations(c.model->graph, c.model->root, {0.3, 0.4, 0}) ==
+              8 * (std::uint64_t{1} << (depth - 1)) - 3);
         text += "VARIABLE W = W & X;\n";
     }
 }

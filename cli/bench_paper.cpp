@@ -25,6 +25,7 @@ namespace {
 constexpr double kPaperFig3aClassic = 1049, kPaperFig3aVoxel = 111;   // 17 min 29 s, 1 min 51 s
 constexpr double kPaperPolygonTotal = 30, kPaperPolygonStep = 2;      // ≤ 30 s, ≈ 2 s per step
 constexpr int kMaxSteps = 16;
+constexpr int kVoxelStepRepeats = 15;   // E3's voxel cells take milliseconds: more runs, steadier medians
 constexpr double kFitMinSeconds = 0.01;   // E3 classic cells faster than this are fixed overhead
 
 struct Experiment {
@@ -69,7 +70,7 @@ BenchCell run_cell(Context& ctx, const std::string& name, const Model& model, co
 std::string time_md(const BenchCell& c) {
     if (c.skipped)
         return fmt::format("skipped ({}), estimated {}", c.skip_reason,
-                           c.estimated_seconds < 0 ? "?" : format_duration(c.estimated_seconds));
+                           estimate_text(c.estimated_seconds));
     return fmt::format("{} ({} run{})", format_duration(c.median), c.seconds.size(), c.seconds.size() == 1 ? "" : "s");
 }
 
@@ -151,12 +152,12 @@ Experiment e2_polygon(Context& ctx) {
 
 Experiment e3_steps(Context& ctx, const std::string& out_dir) {
     Experiment e{"E3", "growth with the number of flozation steps"};
-    const int size = ctx.options.quick ? 100 : 200;
+    const int size = ctx.options.quick ? 100 : 400;
     const double cap = ctx.options.cell_cap;
     MeasureOptions classic = ctx.options.measure;
     classic.budget = std::numeric_limits<double>::infinity();   // the per-cell time cap rules here
     MeasureOptions voxel = ctx.options.measure;
-    voxel.repeat = std::max(voxel.repeat, 9);   // millisecond cells: more runs for a steady median
+    voxel.repeat = std::max(voxel.repeat, kVoxelStepRepeats);   // millisecond cells: more runs for a steady median
     std::vector<double> n_classic, t_classic, n_all_classic, t_all_classic, n_voxel, t_voxel;
     double previous_seconds = -1, previous_operations = 0;   // the last classic cell run
     bool stopped = false;
@@ -379,11 +380,11 @@ int run_paper_benchmarks(const PaperOptions& options) {
         "# fortu bench --paper{}\n\n"
         "Machine: {}. Threads per run: {}. Run at {} in {}.\n\n"
         "Times are medians of up to {} runs per cell (a cell stops repeating once its runs took {}; E3's "
-        "voxel cells take 9). The machine may be shared, so single runs are noisy; medians and fits are what "
+        "voxel cells take {}). The machine may be shared, so single runs are noisy; medians and fits are what "
         "to compare. Peak memory per cell by {}.\n",
         options.quick ? " --quick" : "", machine_text(machine), threads, machine.date,
         format_duration(clock.seconds()), options.measure.repeat, format_duration(options.measure.repeat_cap),
-        memory_method() == std::string("clear_refs") ? "resetting the kernel's peak-RSS mark (clear_refs) before it"
+        std::max(options.measure.repeat, kVoxelStepRepeats), memory_method() == std::string("clear_refs") ? "resetting the kernel's peak-RSS mark (clear_refs) before it"
                                                       : "the process's ru_maxrss");
     for (const Experiment& e : experiments) md += fmt::format("\n## {}: {}\n\n{}", e.id, e.title, e.markdown);
     const std::filesystem::path dir(options.out_dir);

@@ -16,7 +16,9 @@
 namespace fortu {
 namespace {
 
-std::string seconds_text(double s) { return s < 0 ? "?" : format_duration(s); }
+constexpr double kSecondsPerYear = 365.25 * 86400;
+
+std::string seconds_text(double s) { return estimate_text(s); }
 
 std::string pad(const std::string& s, std::size_t width) {
     // Pads by displayed characters (UTF-8 continuation bytes take no column).
@@ -33,6 +35,12 @@ const BenchCell* find_cell(const std::vector<BenchCell>& cells, const std::strin
 }
 
 }  // namespace
+
+std::string estimate_text(double seconds) {
+    if (!(seconds >= 0)) return "?";
+    if (seconds >= kSecondsPerYear) return fmt::format("{:.3g} years", seconds / kSecondsPerYear);
+    return format_duration(seconds);
+}
 
 MachineInfo describe_machine() {
     MachineInfo m;
@@ -86,7 +94,7 @@ std::string bench_table(const std::vector<BenchCell>& cells) {
     std::size_t model_width = 5;
     for (const BenchCell& c : cells) model_width = std::max(model_width, c.model.size());
     std::string out = pad("model", model_width) + "  engine   size          points  runs  min        median     max"
-                      "        per point   ops/point     peak memory\n";
+                      "        per point   ops/point     peak memory (growth)\n";
     for (const BenchCell& c : cells) {
         out += pad(c.model, model_width) + "  " + pad(engine_name(c.engine), 7) + "  " +
                pad(grid_size_text(c.grid), 12) + fmt::format("{:>8}", format_count(c.points())) + "  ";
@@ -98,7 +106,8 @@ std::string bench_table(const std::vector<BenchCell>& cells) {
         out += fmt::format("{:>4}  {}{}{}{}{}{}\n", c.seconds.size(), pad(seconds_text(c.min), 11),
                            pad(seconds_text(c.median), 11), pad(seconds_text(c.max), 11),
                            pad(fmt::format("{:.1f} ns", c.seconds_per_point() * 1e9), 12),
-                           pad(format_operations(c.operations_per_point), 14), format_bytes(c.peak_rss_bytes));
+                           pad(format_operations(c.operations_per_point), 14),
+                           fmt::format("{} (+{})", format_bytes(c.peak_rss_bytes), format_bytes(c.rss_growth_bytes)));
     }
     return out;
 }

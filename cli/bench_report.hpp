@@ -22,6 +22,10 @@ struct MachineInfo {
 MachineInfo describe_machine();
 std::string machine_text(const MachineInfo& machine);
 
+/// A duration as the papers quote it (format_duration), or "1.2e+25 years" beyond a year —
+/// the estimates of skipped classic cells reach far past what format_duration spells out.
+std::string estimate_text(double seconds);
+
 /// The median time of classic over voxel for one model and grid; estimated when the classic
 /// cell was skipped (its estimate over voxel's median).
 struct BenchRatio {

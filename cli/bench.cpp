@@ -20,6 +20,23 @@
 namespace fortu {
 namespace {
 
+constexpr const char* kBenchUsage = R"(usage:
+  fortu bench MODEL... [options]   time each model x engine x size (bench/README.md)
+  fortu bench --paper [--quick] [--out DIR] [--examples DIR] [--repeat N] [--threads N] [--budget OPS]
+                                   the papers' experiments E1-E5: results.md, results.json, plots
+
+options:
+  --engines classic,voxel   engines to time (default both)
+  --sizes 200,400,800       nodes per axis (N means NxN, or NxNxN for a 3D model)
+  --repeat N                timed runs per cell (default 3; a cell stops repeating after 20 s)
+  --budget OPS              classic cells above OPS operations are skipped, with their
+                            estimated time printed (default 2e10)
+  --threads N               worker threads (default: all cores)
+  --json FILE               the results as JSON (schema fortu-bench/1)
+  --csv FILE                one row per cell
+  --plot FILE.svg           median time against grid points, one line per model and engine
+)";
+
 constexpr int kMaxBenchNodes = 20000;   // per axis; the grid itself is capped by kMaxGridPoints
 
 struct BenchArgs {
@@ -171,6 +188,10 @@ int run_models(const BenchArgs& b) {
 }  // namespace
 
 int run_bench_command(const std::vector<std::string>& args) {
+    if (std::find(args.begin(), args.end(), "--help") != args.end()) {
+        std::cout << kBenchUsage;
+        return 0;
+    }
     const BenchArgs b = parse_bench_args(args);
     if (!b.paper) return run_models(b);
     PaperOptions p;

@@ -89,7 +89,9 @@ Experiment e1_fig3a(Context& ctx) {
         e.markdown = "Not run: the Fig. 3a example models did not load (see the errors above).\n";
         return e;
     }
-    const MeasureOptions& m = ctx.options.measure;
+    // The comparison needs all four cells: the budget does not apply (E4 reuses the 800² ones).
+    MeasureOptions m = ctx.options.measure;
+    m.budget = std::numeric_limits<double>::infinity();
     e.cells.push_back(run_cell(ctx, "s1_fig3a_formula.fortu", *formula, bench_grid(*formula, size), EngineKind::Classic, m));
     e.cells.push_back(run_cell(ctx, "s1_fig3a_floz.fortu", *floz, bench_grid(*floz, size), EngineKind::Voxel, m));
     e.cells.push_back(run_cell(ctx, "s1_fig3a_floz.fortu", *floz, bench_grid(*floz, size), EngineKind::Classic, m));
@@ -220,6 +222,8 @@ Experiment e3_steps(Context& ctx, const std::string& out_dir) {
         for (double n : n_classic) fc.points.emplace_back(n, std::exp(classic_fit->intercept + classic_fit->slope * n));
     if (voxel_fit)
         for (double n : n_voxel) fv.points.emplace_back(n, voxel_fit->intercept + voxel_fit->slope * n);
+    sc.colour = fc.colour = 0;
+    sv.colour = fv.colour = 2;
     plot.series = {sc, fc, sv, fv};
     write_plot_svg(plot, (std::filesystem::path(out_dir) / "e3_steps.svg").string());
 

@@ -139,7 +139,8 @@ std::string render_plot_svg(const Plot& plot) {
     // Series, then the legend to the right of the plot area.
     for (std::size_t i = 0; i < plot.series.size(); ++i) {
         const PlotSeries& s = plot.series[i];
-        const char* colour = kColours[i % std::size(kColours)];
+        const std::size_t index = s.colour >= 0 ? std::size_t(s.colour) : i;
+        const char* colour = kColours[index % std::size(kColours)];
         std::string points;
         std::string markers;
         for (auto [x, y] : s.points) {

@@ -16,6 +16,7 @@ struct PlotSeries {
     std::string name;
     std::vector<std::pair<double, double>> points;
     bool dashed = false;   ///< a fitted line rather than measurements (no markers)
+    int colour = -1;       ///< palette index, so a fit can share its data's colour; -1: by position
 };
 
 struct Plot {

@@ -79,6 +79,9 @@ TEST_CASE("fortu bench: usage errors exit 2 before any work") {
           "fortu: error: 'fortu bench --paper' chooses its own sizes and writes its files to --out DIR\n");
     CHECK(run_fortu("bench " + m + " --sizes 20000").out ==
           "fortu: error: --sizes: 20000x20000 is 400,000,000 points, more than the 268,435,456 fortu allocates\n");
+    const auto help = run_fortu("bench --help", ".", true);
+    CHECK(help.status == 0);
+    CHECK(help.out.starts_with("usage:\n  fortu bench MODEL... [options]   time each model x engine x size"));
     for (const char* args : {"--sizes 100,1", "--plot out.png", "--frobnicate"})
         CHECK(run_fortu("bench " + m + " " + args).status == 2);
 }

@@ -60,6 +60,14 @@ TEST_CASE("render_plot_svg: a whole document with labels, legend and series") {
     CHECK(count(svg, "<text") == count(svg, "</text>"));
 }
 
+TEST_CASE("render_plot_svg: a fit can share its data's colour") {
+    Plot p = two_series(false);
+    p.series[1].colour = 0;
+    const std::string svg = render_plot_svg(p);
+    CHECK(count(svg, "stroke=\"#1f77b4\"") == 4);   // both polylines and both legend lines
+    CHECK(count(svg, "#d62728") == 0);
+}
+
 TEST_CASE("render_plot_svg: points a log axis cannot show are left out") {
     Plot p = two_series(true);
     p.series[0].points = {{1, 0}, {2, -1}, {3, 1e-3}, {4, std::nan("")}};

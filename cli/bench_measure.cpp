@@ -125,15 +125,17 @@ double median_of(std::vector<double> v) {
 
 const char* memory_method() { return clear_refs_works() ? "clear_refs" : "ru_maxrss"; }
 
-void ClassicRate::observe(const BenchCell& cell) {
+void ClassicRate::observe(const BenchCell& cell, int threads) {
     if (cell.engine != EngineKind::Classic || cell.skipped || cell.median <= 0) return;
-    if (cell.total_operations() < observed_operations_) return;
-    observed_operations_ = cell.total_operations();
-    seconds_per_operation_ = cell.median / cell.total_operations();
+    Known& k = known_[threads];
+    if (cell.total_operations() < k.operations) return;
+    k.operations = cell.total_operations();
+    k.seconds_per_operation = cell.median / cell.total_operations();
 }
 
 double ClassicRate::seconds_per_operation(int threads) {
-    if (seconds_per_operation_ > 0) return seconds_per_operation_;
+    Known& k = known_[threads];
+    if (k.seconds_per_operation > 0) return k.seconds_per_operation;
     // Nothing measured yet: time the classic engine on E3's 8-step polygon on a grid sized
     // to about kCalibrationOperations operations (well under a second).
     std::optional<Model> model = compile_bench_text("<calibration>", floz_steps_text(8));
@@ -145,8 +147,52 @@ double ClassicRate::seconds_per_operation(int threads) {
     eval.threads = threads;
     Stopwatch clock;
     evaluate_grid(*model, grid, EngineKind::Classic, eval);
-    seconds_per_operation_ = clock.seconds() / (per_point * double(grid.points()));
-    return seconds_per_operation_;
+    k.seconds_per_operation = clock.seconds() / (per_point * double(grid.points()));
+    return k.seconds_per_operation;
+}
+
+namespace {
+
+void set_operations(BenchCell& cell, const Model& model) {
+    cell.operations_per_point = cell.engine == EngineKind::Classic
+                                    ? classic_operations_per_point(model.graph, model.root)
+                                    : double(compile_tape(model.graph, model.root).code.size());
+}
+
+void summarise(BenchCell& cell) {
+    cell.min = *std::min_element(cell.seconds.begin(), cell.seconds.end());
+    cell.max = *std::max_element(cell.seconds.begin(), cell.seconds.end());
+    cell.median = median_of(cell.seconds);
+}
+
+}  // namespace
+
+std::vector<BenchCell> measure_interleaved(const std::vector<SeriesEntry>& entries, EngineKind engine,
+                                           const MeasureOptions& options) {
+    std::vector<BenchCell> cells(entries.size());
+    for (std::size_t i = 0; i < entries.size(); ++i) {
+        cells[i].model = entries[i].name;
+        cells[i].engine = engine;
+        cells[i].grid = entries[i].grid;
+        set_operations(cells[i], *entries[i].model);
+    }
+    const bool per_series_peak = clear_refs_works() && reset_peak_rss();
+    const std::size_t rss_before = per_series_peak ? proc_status_bytes("VmRSS") : peak_rss_bytes();
+    EvalOptions eval;
+    eval.threads = options.threads;
+    for (int round = 0; round < std::max(1, options.repeat); ++round)
+        for (std::size_t i = 0; i < entries.size(); ++i) {
+            Stopwatch clock;
+            const Field field = evaluate_grid(*entries[i].model, entries[i].grid, engine, eval);
+            cells[i].seconds.push_back(clock.seconds());
+        }
+    const std::size_t peak = per_series_peak ? proc_status_bytes("VmHWM") : peak_rss_bytes();
+    for (BenchCell& c : cells) {
+        c.peak_rss_bytes = peak;
+        c.rss_growth_bytes = peak > rss_before ? peak - rss_before : 0;
+        summarise(c);
+    }
+    return cells;
 }
 
 BenchCell measure_cell(const std::string& name, const Model& model, const Grid& grid, EngineKind engine,
@@ -155,8 +201,8 @@ BenchCell measure_cell(const std::string& name, const Model& model, const Grid& 
     cell.model = name;
     cell.engine = engine;
     cell.grid = grid;
+    set_operations(cell, model);
     if (engine == EngineKind::Classic) {
-        cell.operations_per_point = classic_operations_per_point(model.graph, model.root);
         const int depth = dag_depth(model.graph, model.root);
         if (depth > kClassicMaxDepth) {
             cell.skipped = true;
@@ -172,8 +218,6 @@ BenchCell measure_cell(const std::string& name, const Model& model, const Grid& 
             if (per_operation > 0) cell.estimated_seconds = per_operation * cell.total_operations();
             return cell;
         }
-    } else {
-        cell.operations_per_point = double(compile_tape(model.graph, model.root).code.size());
     }
 
     const bool per_cell_peak = clear_refs_works() && reset_peak_rss();
@@ -190,10 +234,8 @@ BenchCell measure_cell(const std::string& name, const Model& model, const Grid& 
     }
     cell.peak_rss_bytes = per_cell_peak ? proc_status_bytes("VmHWM") : peak_rss_bytes();
     cell.rss_growth_bytes = cell.peak_rss_bytes > rss_before ? cell.peak_rss_bytes - rss_before : 0;
-    cell.min = *std::min_element(cell.seconds.begin(), cell.seconds.end());
-    cell.max = *std::max_element(cell.seconds.begin(), cell.seconds.end());
-    cell.median = median_of(cell.seconds);
-    rate.observe(cell);
+    summarise(cell);
+    rate.observe(cell, options.threads);
     return cell;
 }
 

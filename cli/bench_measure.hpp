@@ -9,6 +9,7 @@
 #include "runtime/grid.hpp"
 
 #include <cstddef>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -61,17 +62,21 @@ struct BenchCell {
     double seconds_per_point() const { return points() ? median / double(points()) : 0.0; }
 };
 
-/// How the classic engine's speed is known for estimates: the rate (seconds per operation) of
-/// the most expensive classic cell measured so far, else a short calibration run.
+/// How the classic engine's speed is known for estimates, per thread count: the rate (seconds
+/// per operation) of the most expensive classic cell measured so far with that many threads,
+/// else a short calibration run.
 class ClassicRate {
 public:
-    void observe(const BenchCell& cell);
+    void observe(const BenchCell& cell, int threads);
     /// Seconds per classic operation (runs the calibration the first time if nothing was observed).
     double seconds_per_operation(int threads);
 
 private:
-    double seconds_per_operation_ = -1;
-    double observed_operations_ = 0;
+    struct Known {
+        double seconds_per_operation = -1;
+        double operations = 0;   ///< of the cell it was measured on (0: calibration)
+    };
+    std::map<int, Known> known_;
 };
 
 /// Times `engine` on `model` over `grid`: repeats (stopping early after options.repeat_cap
@@ -79,6 +84,20 @@ private:
 /// deeper than the classic engine recurses, is returned skipped with its estimate.
 BenchCell measure_cell(const std::string& name, const Model& model, const Grid& grid, EngineKind engine,
                        const MeasureOptions& options, ClassicRate& rate);
+
+/// One (name, model, grid) of an interleaved series.
+struct SeriesEntry {
+    std::string name;
+    const Model* model = nullptr;
+    Grid grid;
+};
+
+/// Times `engine` on every entry, options.repeat rounds, each round one run of every entry in
+/// turn: a change in the machine's load during the series then shifts every entry alike
+/// instead of bending the curve (E3's voxel line). Peak memory is the series' own, the same
+/// for every cell.
+std::vector<BenchCell> measure_interleaved(const std::vector<SeriesEntry>& entries, EngineKind engine,
+                                           const MeasureOptions& options);
 
 /// How peak memory was measured, for the reports ("clear_refs" or "ru_maxrss").
 const char* memory_method();

@@ -26,6 +26,7 @@ constexpr double kPaperFig3aClassic = 1049, kPaperFig3aVoxel = 111;   // 17 min 
 constexpr double kPaperPolygonTotal = 30, kPaperPolygonStep = 2;      // ≤ 30 s, ≈ 2 s per step
 constexpr int kMaxSteps = 16;
 constexpr int kVoxelStepRepeats = 15;   // E3's voxel cells take milliseconds: more runs, steadier medians
+constexpr double kDeadline = 540, kQuickDeadline = 60;   // the acceptance: under 10 minutes
 constexpr double kFitMinSeconds = 0.01;   // E3 classic cells faster than this are fixed overhead
 
 struct Experiment {
@@ -41,6 +42,8 @@ struct Context {
     const PaperOptions& options;
     std::filesystem::path examples;
     ClassicRate rate;
+    double deadline = 0;   ///< seconds since start after which no classic cell may still run
+    Stopwatch clock;
     bool failed = false;
 };
 
@@ -63,6 +66,25 @@ std::optional<Model> load_example(Context& ctx, const std::string& file) {
 
 BenchCell run_cell(Context& ctx, const std::string& name, const Model& model, const Grid& grid, EngineKind engine,
                    const MeasureOptions& measure) {
+    // The whole run must end in time on a loaded machine: a classic cell whose estimate
+    // (operations × the classic speed measured so far) would pass the deadline is not run.
+    const double operations = classic_operations_per_point(model.graph, model.root) * double(grid.points());
+    if (engine == EngineKind::Classic && operations <= measure.budget) {
+        const double estimate = ctx.rate.seconds_per_operation(measure.threads) * operations;
+        const double left = ctx.deadline - ctx.clock.seconds();
+        if (estimate > left) {
+            BenchCell c;
+            c.model = name;
+            c.engine = engine;
+            c.grid = grid;
+            c.operations_per_point = operations / double(grid.points());
+            c.skipped = true;
+            c.skip_reason = fmt::format("would pass the run's {} time limit", format_duration(ctx.deadline));
+            c.estimated_seconds = estimate;
+            std::cerr << fmt::format("bench: {} classic {}: skipped, {}\n", name, grid_size_text(grid), c.skip_reason);
+            return c;
+        }
+    }
     std::cerr << fmt::format("bench: {} {} {} ...\n", name, engine_name(engine), grid_size_text(grid));
     return measure_cell(name, model, grid, engine, measure, ctx.rate);
 }
@@ -154,23 +176,40 @@ Experiment e2_polygon(Context& ctx) {
 
 Experiment e3_steps(Context& ctx, const std::string& out_dir) {
     Experiment e{"E3", "growth with the number of flozation steps"};
-    const int size = ctx.options.quick ? 100 : 400;
+    const int size = ctx.options.quick ? 100 : 300;
     const double cap = ctx.options.cell_cap;
+    // One thread for both engines: millisecond voxel cells on a shared 2-core machine are
+    // otherwise bimodal (a worker waiting for a busy core), which bends a straight line.
     MeasureOptions classic = ctx.options.measure;
+    classic.threads = 1;
     classic.budget = std::numeric_limits<double>::infinity();   // the per-cell time cap rules here
     MeasureOptions voxel = ctx.options.measure;
+    voxel.threads = 1;
     voxel.repeat = std::max(voxel.repeat, kVoxelStepRepeats);   // millisecond cells: more runs for a steady median
     std::vector<double> n_classic, t_classic, n_all_classic, t_all_classic, n_voxel, t_voxel;
     double previous_seconds = -1, previous_operations = 0;   // the last classic cell run
     bool stopped = false;
     std::string rows;
+    std::vector<Model> models;
+    models.reserve(kMaxSteps);   // the series below points into it
     for (int n = 1; n <= kMaxSteps; ++n) {
-        const std::string name = fmt::format("floz_steps_{}", n);
-        std::optional<Model> model = compile_bench_text(name, floz_steps_text(n));
+        std::optional<Model> model = compile_bench_text(fmt::format("floz_steps_{}", n), floz_steps_text(n));
         if (!model) { ctx.failed = true; break; }
-        const Grid grid = bench_grid(*model, size);
-        e.cells.push_back(run_cell(ctx, name, *model, grid, EngineKind::Voxel, voxel));
-        const BenchCell& v = e.cells.back();
+        models.push_back(std::move(*model));
+    }
+    std::vector<SeriesEntry> series;
+    for (std::size_t i = 0; i < models.size(); ++i)
+        series.push_back({fmt::format("floz_steps_{}", i + 1), &models[i], bench_grid(models[i], size)});
+    std::cerr << fmt::format("bench: floz_steps_1..{} voxel {}x{}, {} interleaved rounds ...\n", models.size(), size,
+                             size, voxel.repeat);
+    const std::vector<BenchCell> voxel_cells = measure_interleaved(series, EngineKind::Voxel, voxel);
+    for (std::size_t i = 0; i < models.size(); ++i) {
+        const int n = int(i) + 1;
+        const std::string& name = series[i].name;
+        const Model* model = &models[i];
+        const Grid& grid = series[i].grid;
+        e.cells.push_back(voxel_cells[i]);
+        const BenchCell& v = voxel_cells[i];
         n_voxel.push_back(n);
         t_voxel.push_back(v.median);
         BenchCell c;
@@ -229,7 +268,7 @@ Experiment e3_steps(Context& ctx, const std::string& out_dir) {
 
     e.markdown = fmt::format(
         "Generated models: the FLOZ-construction W = W & FLOZ2(...) along a regular 17-gon, n = 1..{0}, grid "
-        "{1}x{1}. Classic cells stop once the next is estimated (from the previous cell's time and the "
+        "{1}x{1}, one thread; the voxel cells are timed in interleaved rounds (every n once per round). Classic cells stop once the next is estimated (from the previous cell's time and the "
         "operation counts) over {2}; the rest are listed with their estimates.\n\n"
         "| n | classic ops/point | classic | voxel ops/point | voxel |\n|---|---|---|---|---|\n{3}\n",
         kMaxSteps, size, format_duration(cap), rows);
@@ -365,16 +404,19 @@ int run_paper_benchmarks(const PaperOptions& options) {
                                  ec ? ec.message() : "not a directory");
         return 1;
     }
-    Context ctx{options, find_examples(options.examples_dir), ClassicRate{}};
+    Context ctx{options, find_examples(options.examples_dir), ClassicRate{}, options.quick ? kQuickDeadline : kDeadline,
+                Stopwatch{}};
     const MachineInfo machine = describe_machine();
     Stopwatch clock;
     std::vector<Experiment> experiments;
     try {
-        experiments.push_back(e1_fig3a(ctx));
-        experiments.push_back(e2_polygon(ctx));
-        experiments.push_back(e3_steps(ctx, options.out_dir));
-        experiments.push_back(e4_resolution(ctx, options.out_dir, experiments[0]));
-        experiments.push_back(e5_sphere(ctx));
+        // E3 first: its fits are the acceptance, and it should not lose to the deadline.
+        Experiment e3 = e3_steps(ctx, options.out_dir);
+        Experiment e1 = e1_fig3a(ctx);
+        Experiment e4 = e4_resolution(ctx, options.out_dir, e1);
+        Experiment e2 = e2_polygon(ctx);
+        Experiment e5 = e5_sphere(ctx);
+        experiments = {std::move(e1), std::move(e2), std::move(e3), std::move(e4), std::move(e5)};
     } catch (const OutputError& e) {
         std::cerr << fmt::format("fortu: error: {}\n", e.what());
         return 1;

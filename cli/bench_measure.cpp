@@ -84,12 +84,17 @@ std::optional<Model> compile_bench_text(const std::string& name, const std::stri
 }
 
 std::string floz_steps_text(int steps) {
-    constexpr int kSides = 17;
+    // An open polyline on a 24-gon turned by 0.1 rad: no two vertices share an x or a y, so
+    // hash-consing shares nothing between steps but the one common vertex, and every step adds
+    // the same operations (9 on the voxel tape) — the line E3 fits is then the engine's, not
+    // the polygon's symmetry.
+    constexpr int kSides = 24;
+    constexpr double kTurn = 0.1;
     auto vertex = [](int k) {
-        const double a = 2 * std::numbers::pi * (k % kSides) / kSides;
+        const double a = 2 * std::numbers::pi * k / kSides + kTurn;
         return fmt::format("{:.6f}, {:.6f}", 0.8 * std::cos(a), 0.8 * std::sin(a));
     };
-    std::string text = fmt::format("// E3: {} flozation step(s) of a regular {}-gon\nARGUMENT X, Y;\n"
+    std::string text = fmt::format("// E3: {} flozation step(s) along a regular {}-gon\nARGUMENT X, Y;\n"
                                    "INCLUDE 'floz.fortu'\nVARIABLE W = FLOZ2(X, Y, {}, {});\n",
                                    steps, kSides, vertex(0), vertex(1));
     for (int i = 1; i <= steps; ++i) text += fmt::format("W = W & FLOZ2(X, Y, {}, {});\n", vertex(i), vertex(i + 1));

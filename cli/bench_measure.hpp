@@ -27,7 +27,7 @@ std::optional<Model> load_bench_model(const std::string& path);
 std::optional<Model> compile_bench_text(const std::string& name, const std::string& text);
 
 /// E3's generated model: the FLOZ-construction W = W & FLOZ2(...) of the first `steps` + 1
-/// edges of a regular 17-gon of radius 0.8 (steps = 16 closes it): `steps` R-conjunctions.
+/// edges of a regular 24-gon of radius 0.8 (an open polyline for steps ≤ 22): `steps` R-conjunctions.
 std::string floz_steps_text(int steps);
 
 /// The model's domain sampled with `nodes` nodes per axis (N×N, or N×N×N for 3 arguments).

@@ -267,7 +267,7 @@ Experiment e3_steps(Context& ctx, const std::string& out_dir) {
     write_plot_svg(plot, (std::filesystem::path(out_dir) / "e3_steps.svg").string());
 
     e.markdown = fmt::format(
-        "Generated models: the FLOZ-construction W = W & FLOZ2(...) along a regular 17-gon, n = 1..{0}, grid "
+        "Generated models: the FLOZ-construction W = W & FLOZ2(...) along an open regular 24-gon, n = 1..{0}, grid "
         "{1}x{1}, one thread; the voxel cells are timed in interleaved rounds (every n once per round). Classic cells stop once the next is estimated (from the previous cell's time and the "
         "operation counts) over {2}; the rest are listed with their estimates.\n\n"
         "| n | classic ops/point | classic | voxel ops/point | voxel |\n|---|---|---|---|---|\n{3}\n",

@@ -18,6 +18,7 @@
 #include <fstream>
 #include <iostream>
 #include <numbers>
+#include <time.h>
 
 namespace fortu {
 namespace {
@@ -164,7 +165,15 @@ void set_operations(BenchCell& cell, const Model& model) {
                                     : double(compile_tape(model.graph, model.root).code.size());
 }
 
+/// CPU time of the whole process (all its threads), in seconds.
+double process_cpu_seconds() {
+    timespec t{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
 void summarise(BenchCell& cell) {
+    cell.cpu_median = median_of(cell.cpu_seconds);
     cell.min = *std::min_element(cell.seconds.begin(), cell.seconds.end());
     cell.max = *std::max_element(cell.seconds.begin(), cell.seconds.end());
     cell.median = median_of(cell.seconds);
@@ -187,9 +196,11 @@ std::vector<BenchCell> measure_interleaved(const std::vector<SeriesEntry>& entri
     eval.threads = options.threads;
     for (int round = 0; round < std::max(1, options.repeat); ++round)
         for (std::size_t i = 0; i < entries.size(); ++i) {
+            const double cpu = process_cpu_seconds();
             Stopwatch clock;
             const Field field = evaluate_grid(*entries[i].model, entries[i].grid, engine, eval);
             cells[i].seconds.push_back(clock.seconds());
+            cells[i].cpu_seconds.push_back(process_cpu_seconds() - cpu);
         }
     const std::size_t peak = per_series_peak ? proc_status_bytes("VmHWM") : peak_rss_bytes();
     for (BenchCell& c : cells) {
@@ -232,9 +243,11 @@ BenchCell measure_cell(const std::string& name, const Model& model, const Grid& 
     double total = 0;
     for (int i = 0; i < std::max(1, options.repeat); ++i) {
         if (i > 0 && total >= options.repeat_cap) break;
+        const double cpu = process_cpu_seconds();
         Stopwatch clock;
         const Field field = evaluate_grid(model, grid, engine, eval);
         cell.seconds.push_back(clock.seconds());
+        cell.cpu_seconds.push_back(process_cpu_seconds() - cpu);
         total += cell.seconds.back();
     }
     cell.peak_rss_bytes = per_cell_peak ? proc_status_bytes("VmHWM") : peak_rss_bytes();

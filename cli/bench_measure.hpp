@@ -53,6 +53,9 @@ struct BenchCell {
     std::string skip_reason;           ///< why, with the operation count
     std::vector<double> seconds;       ///< each timed run, in order
     double min = 0, median = 0, max = 0;
+    std::vector<double> cpu_seconds;   ///< the process's CPU time of each run: the work itself,
+                                       ///< unaffected by waiting for a core on a shared machine
+    double cpu_median = 0;
     std::size_t peak_rss_bytes = 0;    ///< the process's peak RSS during the cell
     std::size_t rss_growth_bytes = 0;  ///< that peak minus the RSS when the cell started
     double estimated_seconds = -1;     ///< skipped classic cells: operations × measured rate; < 0 unknown

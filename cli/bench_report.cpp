@@ -140,6 +140,8 @@ std::string cell_json(const BenchCell& c, int indent) {
     const std::string in(indent, ' ');
     std::string seconds;
     for (double s : c.seconds) seconds += (seconds.empty() ? "" : ", ") + json_number(s);
+    std::string cpu;
+    for (double s : c.cpu_seconds) cpu += (cpu.empty() ? "" : ", ") + json_number(s);
     std::string size = fmt::format("{}, {}", c.grid.cols(), c.grid.rows());
     if (c.grid.dims == 3) size += fmt::format(", {}", c.grid.slices());
     std::string out = fmt::format(
@@ -155,9 +157,11 @@ std::string cell_json(const BenchCell& c, int indent) {
     } else {
         out += fmt::format("{0}  \"seconds\": [{1}],\n{0}  \"min_seconds\": {2},\n{0}  \"median_seconds\": {3},\n"
                            "{0}  \"max_seconds\": {4},\n{0}  \"seconds_per_point\": {5},\n"
-                           "{0}  \"peak_rss_bytes\": {6},\n{0}  \"rss_growth_bytes\": {7}\n{0}}}",
+                           "{0}  \"peak_rss_bytes\": {6},\n{0}  \"rss_growth_bytes\": {7},\n"
+                           "{0}  \"cpu_seconds\": [{8}],\n{0}  \"median_cpu_seconds\": {9}\n{0}}}",
                            in, seconds, json_number(c.min), json_number(c.median), json_number(c.max),
-                           json_number(c.seconds_per_point()), c.peak_rss_bytes, c.rss_growth_bytes);
+                           json_number(c.seconds_per_point()), c.peak_rss_bytes, c.rss_growth_bytes, cpu,
+                           json_number(c.cpu_median));
     }
     return out;
 }

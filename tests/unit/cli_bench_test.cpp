@@ -139,6 +139,8 @@ TEST_CASE("fortu bench: JSON and CSV documents have the documented structure") {
                     "      \"operations_per_point\": 1,\n      \"status\": \"measured\",\n") != std::string::npos);
     CHECK(count(json, "\"median_seconds\": ") == 3);
     CHECK(count(json, "\"peak_rss_bytes\": ") == 3);
+    CHECK(count(json, "\"cpu_seconds\": [") == 3);
+    CHECK(count(json, "\"median_cpu_seconds\": ") == 3);
     CHECK(count(json, "\"estimated\": false}") == 1);
     CHECK(count(json, "\"estimated\": true}") == 1);
     CHECK(json.substr(json.size() - 6) == "  ]\n}\n");

@@ -1,13 +1,208 @@
-// cli/bench.cpp — `fortu bench`: placeholder until its issue lands; refuses clearly.
+// cli/bench.cpp — `fortu bench`: its command line, and the MODEL... mode (each model × engine
+// × size measured, printed as a table with classic/voxel ratios, optionally written as JSON,
+// CSV and an SVG plot). `--paper` hands over to bench_paper.cpp.
+#include "cli/bench_measure.hpp"
+#include "cli/bench_paper.hpp"
+#include "cli/bench_report.hpp"
+#include "cli/cli_options.hpp"
 #include "cli/commands.hpp"
 
+#include "runtime/atomic_file.hpp"
+#include "runtime/output_error.hpp"
+#include "runtime/plot.hpp"
+#include "runtime/resources.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
 #include <iostream>
 
 namespace fortu {
+namespace {
 
-int run_bench_command(const std::vector<std::string>&) {
-    std::cerr << "fortu: error: 'fortu bench' is not available in this build yet\n";
-    return 2;
+constexpr const char* kBenchUsage = R"(usage:
+  fortu bench MODEL... [options]   time each model x engine x size (bench/README.md)
+  fortu bench --paper [--quick] [--out DIR] [--examples DIR] [--repeat N] [--threads N] [--budget OPS]
+                                   the papers' experiments E1-E5: results.md, results.json, plots
+
+options:
+  --engines classic,voxel   engines to time (default both)
+  --sizes 200,400,800       nodes per axis (N means NxN, or NxNxN for a 3D model)
+  --repeat N                timed runs per cell (default 3; a cell stops repeating after 20 s)
+  --budget OPS              classic cells above OPS operations are skipped, with their
+                            estimated time printed (default 2e10)
+  --threads N               worker threads (default: all cores)
+  --json FILE               the results as JSON (schema fortu-bench/1)
+  --csv FILE                one row per cell
+  --plot FILE.svg           median time against grid points, one line per model and engine
+)";
+
+constexpr int kMaxBenchNodes = 20000;   // per axis; the grid itself is capped by kMaxGridPoints
+
+struct BenchArgs {
+    std::vector<std::string> models;
+    std::vector<EngineKind> engines{EngineKind::Classic, EngineKind::Voxel};
+    std::vector<int> sizes{200, 400, 800};
+    MeasureOptions measure;
+    std::string json, csv, plot;
+    bool paper = false, quick = false;
+    std::string out_dir = "bench-results", examples_dir;
+    bool out_given = false, sizes_given = false;
+};
+
+std::vector<std::string> split(const std::string& text) {
+    std::vector<std::string> parts;
+    std::size_t start = 0;
+    for (;;) {
+        const std::size_t comma = text.find(',', start);
+        parts.push_back(text.substr(start, comma - start));
+        if (comma == std::string::npos) return parts;
+        start = comma + 1;
+    }
+}
+
+long parse_integer(const std::string& option, const std::string& text, long lo, long hi) {
+    try {
+        std::size_t used = 0;
+        const long v = std::stol(text, &used);
+        if (used == text.size() && v >= lo && v <= hi) return v;
+    } catch (...) {
+    }
+    throw UsageError(fmt::format("{}: '{}' is not an integer in {}..{}", option, text, lo, hi));
+}
+
+BenchArgs parse_bench_args(const std::vector<std::string>& args) {
+    BenchArgs b;
+    for (std::size_t i = 0; i < args.size(); ++i) {
+        const std::string& a = args[i];
+        auto value = [&]() -> const std::string& {
+            if (i + 1 >= args.size()) throw UsageError(fmt::format("'fortu bench': {} needs a value", a));
+            return args[++i];
+        };
+        if (a == "--engines") {
+            b.engines.clear();
+            for (const std::string& name : split(value())) {
+                const auto engine = parse_engine(name);
+                if (!engine) throw UsageError(fmt::format("--engines: unknown engine '{}' (classic, voxel)", name));
+                b.engines.push_back(*engine);
+            }
+        } else if (a == "--sizes") {
+            b.sizes.clear();
+            b.sizes_given = true;
+            for (const std::string& n : split(value())) b.sizes.push_back(int(parse_integer("--sizes", n, 2, kMaxBenchNodes)));
+        } else if (a == "--repeat") {
+            b.measure.repeat = int(parse_integer("--repeat", value(), 1, 1000));
+        } else if (a == "--threads") {
+            b.measure.threads = int(parse_integer("--threads", value(), 0, 1024));
+        } else if (a == "--budget") {
+            const std::string& text = value();
+            char* end = nullptr;
+            const double v = std::strtod(text.c_str(), &end);
+            if (text.empty() || *end != '\0' || !std::isfinite(v) || v <= 0)
+                throw UsageError(fmt::format("--budget: '{}' is not a positive number of operations", text));
+            b.measure.budget = v;
+        } else if (a == "--json") {
+            b.json = value();
+        } else if (a == "--csv") {
+            b.csv = value();
+        } else if (a == "--plot") {
+            b.plot = value();
+            if (b.plot.size() < 4 || b.plot.substr(b.plot.size() - 4) != ".svg")
+                throw UsageError(fmt::format("--plot: '{}' must end in .svg (fortu writes SVG plots)", b.plot));
+        } else if (a == "--paper") {
+            b.paper = true;
+        } else if (a == "--quick") {
+            b.quick = true;
+        } else if (a == "--out") {
+            b.out_dir = value();
+            b.out_given = true;
+        } else if (a == "--examples") {
+            b.examples_dir = value();
+        } else if (a.size() > 1 && a[0] == '-') {
+            throw UsageError(fmt::format("'fortu bench': unknown option '{}'", a));
+        } else {
+            b.models.push_back(a);
+        }
+    }
+    if (b.paper && !b.models.empty())
+        throw UsageError("'fortu bench --paper' runs the papers' models; give no MODEL with it");
+    if (!b.paper && b.models.empty()) throw UsageError("'fortu bench': give at least one MODEL, or --paper");
+    if (!b.paper && (b.quick || b.out_given || !b.examples_dir.empty()))
+        throw UsageError("'fortu bench': --quick, --out and --examples go with --paper");
+    if (b.paper && (b.sizes_given || !b.json.empty() || !b.csv.empty() || !b.plot.empty()))
+        throw UsageError("'fortu bench --paper' chooses its own sizes and writes its files to --out DIR");
+    return b;
+}
+
+/// One plot of the MODEL mode: median time against points, a series per model and engine.
+Plot bench_plot(const std::vector<BenchCell>& cells) {
+    Plot plot;
+    plot.title = "fortu bench: time against grid size";
+    plot.x_label = "grid points";
+    plot.y_label = "wall time (s)";
+    plot.log_x = plot.log_y = true;
+    for (const BenchCell& c : cells) {
+        if (c.skipped) continue;
+        const std::string name = fmt::format("{} ({})", c.model, engine_name(c.engine));
+        auto it = std::find_if(plot.series.begin(), plot.series.end(), [&](const PlotSeries& s) { return s.name == name; });
+        if (it == plot.series.end()) it = plot.series.insert(plot.series.end(), PlotSeries{name});
+        it->points.emplace_back(double(c.points()), c.median);
+    }
+    return plot;
+}
+
+int run_models(const BenchArgs& b) {
+    std::vector<BenchCell> cells;
+    ClassicRate rate;
+    int status = 0;
+    for (const std::string& path : b.models) {
+        std::optional<Model> model = load_bench_model(path);
+        if (!model) { status = 1; continue; }
+        for (int size : b.sizes) {
+            const Grid grid = bench_grid(*model, size);
+            if (double(grid.points()) > double(kMaxGridPoints))
+                throw UsageError(fmt::format("--sizes: {} is {} points, more than the {} fortu allocates",
+                                             grid_size_text(grid), format_count(grid.points()), format_count(kMaxGridPoints)));
+            for (EngineKind engine : b.engines) cells.push_back(measure_cell(path, *model, grid, engine, b.measure, rate));
+        }
+    }
+    if (cells.empty()) return status;
+    std::cout << bench_table(cells) << ratio_text(bench_ratios(cells));
+    try {
+        if (!b.json.empty()) {
+            const std::string json = bench_json(cells, describe_machine(), b.measure);
+            write_file_atomically(b.json, [&](OutputFile& f) { f.write(json); });
+        }
+        if (!b.csv.empty()) {
+            const std::string csv = bench_csv(cells);
+            write_file_atomically(b.csv, [&](OutputFile& f) { f.write(csv); });
+        }
+        if (!b.plot.empty()) write_plot_svg(bench_plot(cells), b.plot);
+    } catch (const OutputError& e) {
+        std::cerr << fmt::format("fortu: error: {}\n", e.what());
+        return 1;
+    }
+    return status;
+}
+
+}  // namespace
+
+int run_bench_command(const std::vector<std::string>& args) {
+    if (std::find(args.begin(), args.end(), "--help") != args.end()) {
+        std::cout << kBenchUsage;
+        return 0;
+    }
+    const BenchArgs b = parse_bench_args(args);
+    if (!b.paper) return run_models(b);
+    PaperOptions p;
+    p.quick = b.quick;
+    p.out_dir = b.out_dir;
+    p.examples_dir = b.examples_dir;
+    p.measure = b.measure;
+    // The paper run has ten minutes in all: slow cells repeat less than in the MODEL mode.
+    p.measure.repeat_cap = b.quick ? 5.0 : 10.0;
+    if (b.quick) p.cell_cap = 5.0;
+    return run_paper_benchmarks(p);
 }
 
 }  // namespace fortu

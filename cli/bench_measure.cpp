@@ -1,0 +1,260 @@
+// cli/bench_measure.cpp — timing one bench cell. Peak memory per cell: the kernel's peak-RSS
+// mark (VmHWM) is reset through /proc/self/clear_refs before the cell and read after it, so
+// each cell reports its own peak, not the process's; where that is refused, the process's
+// ru_maxrss growth over the cell is reported instead (memory_method() says which).
+#include "cli/bench_measure.hpp"
+
+#include "grammar/diagnostic.hpp"
+#include "interp/classic_cost.hpp"
+#include "interp/ir_print.hpp"
+#include "interp/lower.hpp"
+#include "interp/tape.hpp"
+#include "runtime/resources.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fmt/format.h>
+#include <fstream>
+#include <iostream>
+#include <numbers>
+#include <time.h>
+
+namespace fortu {
+namespace {
+
+constexpr double kCalibrationOperations = 2e7;
+
+std::optional<Model> compile_source(std::shared_ptr<SourceFile> source) {
+    DiagnosticSink sink;
+    CompileOptions options;
+    options.include_dirs = bench_stdlib_dirs();
+    std::optional<Model> model = compile(source, options, sink);
+    for (const Diagnostic& d : sink.diagnostics())
+        if (d.severity != Severity::Note) std::cerr << render(d);
+    return model;
+}
+
+/// A field of /proc/self/status in bytes (VmRSS, VmHWM); 0 when unavailable.
+std::size_t proc_status_bytes(const std::string& field) {
+    std::ifstream in("/proc/self/status");
+    std::string line;
+    while (std::getline(in, line))
+        if (line.rfind(field + ":", 0) == 0) return std::stoull(line.substr(field.size() + 1)) * 1024;
+    return 0;
+}
+
+/// Resets the peak-RSS mark; false when the kernel refuses.
+bool reset_peak_rss() {
+    std::ofstream out("/proc/self/clear_refs");
+    out << "5";
+    out.flush();
+    return bool(out);
+}
+
+bool& clear_refs_works() {
+    static bool works = reset_peak_rss();
+    return works;
+}
+
+}  // namespace
+
+std::vector<std::string> bench_stdlib_dirs() {
+    std::vector<std::string> dirs;
+    std::error_code ec;
+    auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+    if (!ec) {
+        dirs.push_back((exe.parent_path() / "stdlib").string());
+        dirs.push_back((exe.parent_path().parent_path().parent_path() / "stdlib").string());
+    }
+    return dirs;
+}
+
+std::optional<Model> load_bench_model(const std::string& path) {
+    std::string error;
+    auto source = SourceFile::load(path, error);
+    if (!source) {
+        std::cerr << fmt::format("fortu: error: {}\n", error);
+        return std::nullopt;
+    }
+    return compile_source(source);
+}
+
+std::optional<Model> compile_bench_text(const std::string& name, const std::string& text) {
+    return compile_source(std::make_shared<SourceFile>(name, text));
+}
+
+std::string floz_steps_text(int steps) {
+    // An open polyline on a 24-gon turned by 0.1 rad: no two vertices share an x or a y, so
+    // hash-consing shares nothing between steps but the one common vertex, and every step adds
+    // the same operations (9 on the voxel tape) — the line E3 fits is then the engine's, not
+    // the polygon's symmetry.
+    constexpr int kSides = 24;
+    constexpr double kTurn = 0.1;
+    auto vertex = [](int k) {
+        const double a = 2 * std::numbers::pi * k / kSides + kTurn;
+        return fmt::format("{:.6f}, {:.6f}", 0.8 * std::cos(a), 0.8 * std::sin(a));
+    };
+    std::string text = fmt::format("// E3: {} flozation step(s) along a regular {}-gon\nARGUMENT X, Y;\n"
+                                   "INCLUDE 'floz.fortu'\nVARIABLE W = FLOZ2(X, Y, {}, {});\n",
+                                   steps, kSides, vertex(0), vertex(1));
+    for (int i = 1; i <= steps; ++i) text += fmt::format("W = W & FLOZ2(X, Y, {}, {});\n", vertex(i), vertex(i + 1));
+    return text + "RETURN W;\n";
+}
+
+Grid bench_grid(const Model& model, int nodes) {
+    Grid grid;
+    grid.dims = model.dims();
+    Axis* axes[3] = {&grid.x, &grid.y, &grid.z};
+    for (int a = 0; a < 3; ++a) {
+        AxisRange r{-1.0, 1.0};
+        if (a < int(model.arguments.size()) && model.ranges[a]) r = *model.ranges[a];
+        axes[a]->min = r.min;
+        axes[a]->max = r.max;
+        axes[a]->nodes = a < grid.dims ? nodes : 1;
+    }
+    if (model.arguments.size() == 1) grid.y.nodes = 1;
+    return grid;
+}
+
+std::string grid_size_text(const Grid& g) {
+    return g.dims == 3 ? fmt::format("{}x{}x{}", g.cols(), g.rows(), g.slices())
+                       : fmt::format("{}x{}", g.cols(), g.rows());
+}
+
+double median_of(std::vector<double> v) {
+    if (v.empty()) return 0;
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    return n % 2 ? v[n / 2] : (v[n / 2 - 1] + v[n / 2]) / 2;
+}
+
+const char* memory_method() { return clear_refs_works() ? "clear_refs" : "ru_maxrss"; }
+
+void ClassicRate::observe(const BenchCell& cell, int threads) {
+    if (cell.engine != EngineKind::Classic || cell.skipped || cell.median <= 0) return;
+    Known& k = known_[threads];
+    if (cell.total_operations() < k.operations) return;
+    k.operations = cell.total_operations();
+    k.seconds_per_operation = cell.median / cell.total_operations();
+}
+
+double ClassicRate::seconds_per_operation(int threads) {
+    Known& k = known_[threads];
+    if (k.seconds_per_operation > 0) return k.seconds_per_operation;
+    // Nothing measured yet: time the classic engine on E3's 8-step polygon on a grid sized
+    // to about kCalibrationOperations operations (well under a second).
+    std::optional<Model> model = compile_bench_text("<calibration>", floz_steps_text(8));
+    if (!model) return -1;
+    const double per_point = classic_operations_per_point(model->graph, model->root);
+    const int nodes = std::max(2, int(std::sqrt(kCalibrationOperations / per_point)));
+    const Grid grid = bench_grid(*model, nodes);
+    EvalOptions eval;
+    eval.threads = threads;
+    Stopwatch clock;
+    evaluate_grid(*model, grid, EngineKind::Classic, eval);
+    k.seconds_per_operation = clock.seconds() / (per_point * double(grid.points()));
+    return k.seconds_per_operation;
+}
+
+namespace {
+
+void set_operations(BenchCell& cell, const Model& model) {
+    cell.operations_per_point = cell.engine == EngineKind::Classic
+                                    ? classic_operations_per_point(model.graph, model.root)
+                                    : double(compile_tape(model.graph, model.root).code.size());
+}
+
+/// CPU time of the whole process (all its threads), in seconds.
+double process_cpu_seconds() {
+    timespec t{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
+void summarise(BenchCell& cell) {
+    cell.cpu_median = median_of(cell.cpu_seconds);
+    cell.min = *std::min_element(cell.seconds.begin(), cell.seconds.end());
+    cell.max = *std::max_element(cell.seconds.begin(), cell.seconds.end());
+    cell.median = median_of(cell.seconds);
+}
+
+}  // namespace
+
+std::vector<BenchCell> measure_interleaved(const std::vector<SeriesEntry>& entries, EngineKind engine,
+                                           const MeasureOptions& options) {
+    std::vector<BenchCell> cells(entries.size());
+    for (std::size_t i = 0; i < entries.size(); ++i) {
+        cells[i].model = entries[i].name;
+        cells[i].engine = engine;
+        cells[i].grid = entries[i].grid;
+        set_operations(cells[i], *entries[i].model);
+    }
+    const bool per_series_peak = clear_refs_works() && reset_peak_rss();
+    const std::size_t rss_before = per_series_peak ? proc_status_bytes("VmRSS") : peak_rss_bytes();
+    EvalOptions eval;
+    eval.threads = options.threads;
+    for (int round = 0; round < std::max(1, options.repeat); ++round)
+        for (std::size_t i = 0; i < entries.size(); ++i) {
+            const double cpu = process_cpu_seconds();
+            Stopwatch clock;
+            const Field field = evaluate_grid(*entries[i].model, entries[i].grid, engine, eval);
+            cells[i].seconds.push_back(clock.seconds());
+            cells[i].cpu_seconds.push_back(process_cpu_seconds() - cpu);
+        }
+    const std::size_t peak = per_series_peak ? proc_status_bytes("VmHWM") : peak_rss_bytes();
+    for (BenchCell& c : cells) {
+        c.peak_rss_bytes = peak;
+        c.rss_growth_bytes = peak > rss_before ? peak - rss_before : 0;
+        summarise(c);
+    }
+    return cells;
+}
+
+BenchCell measure_cell(const std::string& name, const Model& model, const Grid& grid, EngineKind engine,
+                       const MeasureOptions& options, ClassicRate& rate) {
+    BenchCell cell;
+    cell.model = name;
+    cell.engine = engine;
+    cell.grid = grid;
+    set_operations(cell, model);
+    if (engine == EngineKind::Classic) {
+        const int depth = dag_depth(model.graph, model.root);
+        if (depth > kClassicMaxDepth) {
+            cell.skipped = true;
+            cell.skip_reason = fmt::format("nested {} levels deep; the classic engine's recursion stops at {}",
+                                           depth, kClassicMaxDepth);
+        } else if (cell.total_operations() > options.budget) {
+            cell.skipped = true;
+            cell.skip_reason = fmt::format("{:.3g} operations, over the budget of {:.3g}", cell.total_operations(),
+                                           options.budget);
+        }
+        if (cell.skipped) {
+            const double per_operation = rate.seconds_per_operation(options.threads);
+            if (per_operation > 0) cell.estimated_seconds = per_operation * cell.total_operations();
+            return cell;
+        }
+    }
+
+    const bool per_cell_peak = clear_refs_works() && reset_peak_rss();
+    const std::size_t rss_before = per_cell_peak ? proc_status_bytes("VmRSS") : peak_rss_bytes();
+    EvalOptions eval;
+    eval.threads = options.threads;
+    double total = 0;
+    for (int i = 0; i < std::max(1, options.repeat); ++i) {
+        if (i > 0 && total >= options.repeat_cap) break;
+        const double cpu = process_cpu_seconds();
+        Stopwatch clock;
+        const Field field = evaluate_grid(model, grid, engine, eval);
+        cell.seconds.push_back(clock.seconds());
+        cell.cpu_seconds.push_back(process_cpu_seconds() - cpu);
+        total += cell.seconds.back();
+    }
+    cell.peak_rss_bytes = per_cell_peak ? proc_status_bytes("VmHWM") : peak_rss_bytes();
+    cell.rss_growth_bytes = cell.peak_rss_bytes > rss_before ? cell.peak_rss_bytes - rss_before : 0;
+    summarise(cell);
+    rate.observe(cell, options.threads);
+    return cell;
+}
+
+}  // namespace fortu

@@ -1,0 +1,231 @@
+// cli/bench_report.cpp — text, JSON and CSV renderings of bench cells. The JSON is written by
+// hand (a few fixed shapes) so its key order and number format stay stable across versions.
+#include "cli/bench_report.hpp"
+
+#include "interp/ir_print.hpp"
+#include "runtime/resources.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <ctime>
+#include <fmt/format.h>
+#include <fstream>
+#include <map>
+#include <thread>
+
+namespace fortu {
+namespace {
+
+constexpr double kSecondsPerYear = 365.25 * 86400;
+
+std::string seconds_text(double s) { return estimate_text(s); }
+
+std::string pad(const std::string& s, std::size_t width) {
+    // Pads by displayed characters (UTF-8 continuation bytes take no column).
+    std::size_t shown = 0;
+    for (unsigned char c : s) shown += (c & 0xC0) != 0x80;
+    return shown >= width ? s : s + std::string(width - shown, ' ');
+}
+
+const BenchCell* find_cell(const std::vector<BenchCell>& cells, const std::string& model, const std::string& size,
+                           EngineKind engine) {
+    for (const BenchCell& c : cells)
+        if (c.model == model && grid_size_text(c.grid) == size && c.engine == engine) return &c;
+    return nullptr;
+}
+
+}  // namespace
+
+std::string estimate_text(double seconds) {
+    if (!(seconds >= 0)) return "?";
+    if (seconds >= kSecondsPerYear) return fmt::format("{:.3g} years", seconds / kSecondsPerYear);
+    return format_duration(seconds);
+}
+
+MachineInfo describe_machine() {
+    MachineInfo m;
+    std::ifstream in("/proc/cpuinfo");
+    std::string line;
+    while (std::getline(in, line))
+        if (line.rfind("model name", 0) == 0) {
+            const auto colon = line.find(':');
+            m.cpu = colon == std::string::npos ? "" : line.substr(line.find_first_not_of(" \t", colon + 1));
+            break;
+        }
+    if (m.cpu.empty()) m.cpu = "unknown CPU";
+    m.cores = int(std::max(1u, std::thread::hardware_concurrency()));
+#if defined(__clang__)
+    m.compiler = fmt::format("clang {}", __clang_version__);
+#elif defined(__GNUC__)
+    m.compiler = fmt::format("GCC {}", __VERSION__);
+#else
+    m.compiler = "unknown compiler";
+#endif
+#ifdef NDEBUG
+    m.build = "optimised (NDEBUG)";
+#else
+    m.build = "debug (assertions on)";
+#endif
+    const std::time_t now = std::time(nullptr);
+    char date[32];
+    std::strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
+    m.date = date;
+    return m;
+}
+
+std::string machine_text(const MachineInfo& m) {
+    return fmt::format("{}, {} core{}, {}, {} build", m.cpu, m.cores, m.cores == 1 ? "" : "s", m.compiler, m.build);
+}
+
+std::vector<BenchRatio> bench_ratios(const std::vector<BenchCell>& cells) {
+    std::vector<BenchRatio> ratios;
+    for (const BenchCell& c : cells) {
+        if (c.engine != EngineKind::Classic) continue;
+        const std::string size = grid_size_text(c.grid);
+        const BenchCell* v = find_cell(cells, c.model, size, EngineKind::Voxel);
+        if (!v || v->skipped || v->median <= 0) continue;
+        if (c.skipped && c.estimated_seconds < 0) continue;
+        ratios.push_back({c.model, size, (c.skipped ? c.estimated_seconds : c.median) / v->median, c.skipped});
+    }
+    return ratios;
+}
+
+std::string bench_table(const std::vector<BenchCell>& cells) {
+    std::size_t model_width = 5;
+    for (const BenchCell& c : cells) model_width = std::max(model_width, c.model.size());
+    std::string out = pad("model", model_width) + "  engine   size          points  runs  min        median     max"
+                      "        per point   ops/point     peak memory (growth)\n";
+    for (const BenchCell& c : cells) {
+        out += pad(c.model, model_width) + "  " + pad(engine_name(c.engine), 7) + "  " +
+               pad(grid_size_text(c.grid), 12) + fmt::format("{:>8}", format_count(c.points())) + "  ";
+        if (c.skipped) {
+            out += fmt::format("skipped: {}; estimated {} ({} operations per point)\n", c.skip_reason,
+                               seconds_text(c.estimated_seconds), format_operations(c.operations_per_point));
+            continue;
+        }
+        out += fmt::format("{:>4}  {}{}{}{}{}{}\n", c.seconds.size(), pad(seconds_text(c.min), 11),
+                           pad(seconds_text(c.median), 11), pad(seconds_text(c.max), 11),
+                           pad(fmt::format("{:.1f} ns", c.seconds_per_point() * 1e9), 12),
+                           pad(format_operations(c.operations_per_point), 14),
+                           fmt::format("{} (+{})", format_bytes(c.peak_rss_bytes), format_bytes(c.rss_growth_bytes)));
+    }
+    return out;
+}
+
+std::string ratio_text(const std::vector<BenchRatio>& ratios) {
+    std::string out;
+    for (const BenchRatio& r : ratios)
+        out += fmt::format("ratio classic/voxel, {} {}: {}{:.3g}{}\n", r.model, r.size, r.estimated ? "≈ " : "",
+                           r.classic_over_voxel, r.estimated ? " (estimated: classic skipped)" : "");
+    return out;
+}
+
+std::string json_number(double v) {
+    if (!std::isfinite(v)) return "null";
+    return fmt::format("{}", v);
+}
+
+std::string json_string(const std::string& s) {
+    std::string out = "\"";
+    for (unsigned char c : s) {
+        if (c == '"' || c == '\\') out += '\\', out += char(c);
+        else if (c == '\n') out += "\\n";
+        else if (c < 0x20) out += fmt::format("\\u{:04x}", c);
+        else out += char(c);
+    }
+    return out + "\"";
+}
+
+std::string cell_json(const BenchCell& c, int indent) {
+    const std::string in(indent, ' ');
+    std::string seconds;
+    for (double s : c.seconds) seconds += (seconds.empty() ? "" : ", ") + json_number(s);
+    std::string cpu;
+    for (double s : c.cpu_seconds) cpu += (cpu.empty() ? "" : ", ") + json_number(s);
+    std::string size = fmt::format("{}, {}", c.grid.cols(), c.grid.rows());
+    if (c.grid.dims == 3) size += fmt::format(", {}", c.grid.slices());
+    std::string out = fmt::format(
+        "{0}{{\n{0}  \"model\": {1},\n{0}  \"engine\": \"{2}\",\n{0}  \"size\": [{3}],\n{0}  \"points\": {4},\n"
+        "{0}  \"operations_per_point\": {5},\n{0}  \"status\": \"{6}\",\n",
+        in, json_string(c.model), engine_name(c.engine), size, c.points(), json_number(c.operations_per_point),
+        c.skipped ? "skipped" : "measured");
+    if (c.skipped) {
+        out += fmt::format("{0}  \"skip_reason\": {1},\n{0}  \"estimated_operations\": {2},\n"
+                           "{0}  \"estimated_seconds\": {3}\n{0}}}",
+                           in, json_string(c.skip_reason), json_number(c.total_operations()),
+                           c.estimated_seconds < 0 ? "null" : json_number(c.estimated_seconds));
+    } else {
+        out += fmt::format("{0}  \"seconds\": [{1}],\n{0}  \"min_seconds\": {2},\n{0}  \"median_seconds\": {3},\n"
+                           "{0}  \"max_seconds\": {4},\n{0}  \"seconds_per_point\": {5},\n"
+                           "{0}  \"peak_rss_bytes\": {6},\n{0}  \"rss_growth_bytes\": {7},\n"
+                           "{0}  \"cpu_seconds\": [{8}],\n{0}  \"median_cpu_seconds\": {9}\n{0}}}",
+                           in, seconds, json_number(c.min), json_number(c.median), json_number(c.max),
+                           json_number(c.seconds_per_point()), c.peak_rss_bytes, c.rss_growth_bytes, cpu,
+                           json_number(c.cpu_median));
+    }
+    return out;
+}
+
+std::string bench_json(const std::vector<BenchCell>& cells, const MachineInfo& m, const MeasureOptions& o) {
+    std::string out = fmt::format(
+        "{{\n  \"schema\": \"fortu-bench/1\",\n  \"machine\": {{\"cpu\": {}, \"cores\": {}, \"compiler\": {}, "
+        "\"build\": {}, \"date\": {}}},\n  \"options\": {{\"repeat\": {}, \"repeat_cap_seconds\": {}, "
+        "\"threads\": {}, \"budget_operations\": {}, \"memory_method\": \"{}\"}},\n  \"cells\": [\n",
+        json_string(m.cpu), m.cores, json_string(m.compiler), json_string(m.build), json_string(m.date), o.repeat,
+        json_number(o.repeat_cap), o.threads, json_number(o.budget), memory_method());
+    for (std::size_t i = 0; i < cells.size(); ++i) out += cell_json(cells[i], 4) + (i + 1 < cells.size() ? ",\n" : "\n");
+    out += "  ],\n  \"ratios\": [\n";
+    const auto ratios = bench_ratios(cells);
+    for (std::size_t i = 0; i < ratios.size(); ++i)
+        out += fmt::format("    {{\"model\": {}, \"size\": \"{}\", \"classic_over_voxel\": {}, \"estimated\": {}}}{}\n",
+                           json_string(ratios[i].model), ratios[i].size, json_number(ratios[i].classic_over_voxel),
+                           ratios[i].estimated ? "true" : "false", i + 1 < ratios.size() ? "," : "");
+    return out + "  ]\n}\n";
+}
+
+std::string bench_csv(const std::vector<BenchCell>& cells) {
+    std::string out = "model,engine,cols,rows,slices,points,status,runs,min_s,median_s,max_s,s_per_point,"
+                      "ops_per_point,peak_rss_bytes,estimated_s\n";
+    auto quoted = [](const std::string& s) {
+        if (s.find_first_of(",\"\n") == std::string::npos) return s;
+        std::string q = "\"";
+        for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+        return q + "\"";
+    };
+    for (const BenchCell& c : cells) {
+        out += fmt::format("{},{},{},{},{},{},{},", quoted(c.model), engine_name(c.engine), c.grid.cols(),
+                           c.grid.rows(), c.grid.slices(), c.points(), c.skipped ? "skipped" : "measured");
+        if (c.skipped)
+            out += fmt::format("0,,,,,{},,{}\n", json_number(c.operations_per_point),
+                               c.estimated_seconds < 0 ? "" : json_number(c.estimated_seconds));
+        else
+            out += fmt::format("{},{},{},{},{},{},{},\n", c.seconds.size(), json_number(c.min), json_number(c.median),
+                               json_number(c.max), json_number(c.seconds_per_point()),
+                               json_number(c.operations_per_point), c.peak_rss_bytes);
+    }
+    return out;
+}
+
+std::optional<LinearFit> fit_line(const std::vector<double>& x, const std::vector<double>& y) {
+    const std::size_t n = std::min(x.size(), y.size());
+    if (n < 2) return std::nullopt;
+    double mx = 0, my = 0;
+    for (std::size_t i = 0; i < n; ++i) mx += x[i], my += y[i];
+    mx /= double(n);
+    my /= double(n);
+    double sxx = 0, sxy = 0, syy = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        sxx += (x[i] - mx) * (x[i] - mx);
+        sxy += (x[i] - mx) * (y[i] - my);
+        syy += (y[i] - my) * (y[i] - my);
+    }
+    if (sxx <= 0) return std::nullopt;
+    LinearFit f;
+    f.slope = sxy / sxx;
+    f.intercept = my - f.slope * mx;
+    f.r2 = syy > 0 ? (sxy * sxy) / (sxx * syy) : 1.0;
+    f.points = int(n);
+    return f;
+}
+
+}  // namespace fortu

@@ -1,0 +1,64 @@
+// cli/bench_report.hpp — `fortu bench`'s reports: the terminal table, the JSON document
+// (schema "fortu-bench/1", bench/README.md), the CSV rows, the machine description and the
+// least-squares fits the paper experiments print.
+#pragma once
+
+#include "cli/bench_measure.hpp"
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace fortu {
+
+/// Where the numbers were measured: CPU model (/proc/cpuinfo), cores, compiler, build.
+struct MachineInfo {
+    std::string cpu;
+    int cores = 0;
+    std::string compiler;
+    std::string build;
+    std::string date;   ///< UTC, ISO 8601
+};
+MachineInfo describe_machine();
+std::string machine_text(const MachineInfo& machine);
+
+/// A duration as the papers quote it (format_duration), or "1.2e+25 years" beyond a year —
+/// the estimates of skipped classic cells reach far past what format_duration spells out.
+std::string estimate_text(double seconds);
+
+/// The median time of classic over voxel for one model and grid; estimated when the classic
+/// cell was skipped (its estimate over voxel's median).
+struct BenchRatio {
+    std::string model;
+    std::string size;
+    double classic_over_voxel = 0;
+    bool estimated = false;
+};
+std::vector<BenchRatio> bench_ratios(const std::vector<BenchCell>& cells);
+
+/// The cells as an aligned text table (one line per cell; skipped cells say why and their estimate).
+std::string bench_table(const std::vector<BenchCell>& cells);
+/// One line per ratio: `ratio classic/voxel, MODEL SIZE: 9.4` (`≈` and "estimated" when estimated).
+std::string ratio_text(const std::vector<BenchRatio>& ratios);
+
+/// One cell as a JSON object (bench/README.md).
+std::string cell_json(const BenchCell& cell, int indent);
+/// A JSON number; null for non-finite values.
+std::string json_number(double v);
+std::string json_string(const std::string& s);
+/// The whole `fortu bench MODEL...` document.
+std::string bench_json(const std::vector<BenchCell>& cells, const MachineInfo& machine, const MeasureOptions& options);
+/// Header line plus one row per cell.
+std::string bench_csv(const std::vector<BenchCell>& cells);
+
+/// y = intercept + slope·x by least squares, with the coefficient of determination.
+struct LinearFit {
+    double intercept = 0;
+    double slope = 0;
+    double r2 = 0;
+    int points = 0;
+};
+/// nullopt with fewer than two points or all x equal.
+std::optional<LinearFit> fit_line(const std::vector<double>& x, const std::vector<double>& y);
+
+}  // namespace fortu

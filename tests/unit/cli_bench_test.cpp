@@ -1,0 +1,174 @@
+// tests/unit/cli_bench_test.cpp — `fortu bench` end to end: usage errors (exit 2), the JSON
+// and CSV documents' structure, an over-budget classic cell kept as skipped with its
+// estimate, and the plot. No assertion looks at how long anything took.
+#include "cli_support.hpp"
+
+#include <doctest/doctest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <vector>
+
+using fortu::test::quote;
+using fortu::test::run_fortu;
+
+namespace {
+
+struct TempDir {
+    std::filesystem::path path;
+    TempDir() {
+        path = std::filesystem::temp_directory_path() / ("fortu_bench_test_" + std::to_string(::getpid()) + "_" +
+                                                         std::to_string(counter()++));
+        std::filesystem::create_directories(path);
+    }
+    ~TempDir() { std::filesystem::remove_all(path); }
+    static int& counter() { static int c = 0; return c; }
+    std::string write(const std::string& name, const std::string& text) const {
+        std::ofstream(path / name, std::ios::binary) << text;
+        return (path / name).string();
+    }
+    std::string read(const std::string& name) const {
+        std::ifstream in(path / name, std::ios::binary);
+        std::stringstream s;
+        s << in.rdbuf();
+        return s.str();
+    }
+};
+
+// Classic cost: the R0 conjunction's 6 operations plus each argument read twice = 10 per point.
+const char* kAnd = "ARGUMENT X, Y;\nRETURN X & Y;\n";
+
+int count(const std::string& text, const std::string& what) {
+    int n = 0;
+    for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + what.size())) ++n;
+    return n;
+}
+
+std::vector<std::string> lines_of(const std::string& text) {
+    std::vector<std::string> lines;
+    std::stringstream s(text);
+    for (std::string line; std::getline(s, line);) lines.push_back(line);
+    return lines;
+}
+
+}  // namespace
+
+TEST_CASE("fortu bench: usage errors exit 2 before any work") {
+    TempDir t;
+    const std::string m = quote(t.write("and.fortu", kAnd));
+    CHECK(run_fortu("bench").status == 2);
+    CHECK(run_fortu("bench").out == "fortu: error: 'fortu bench': give at least one MODEL, or --paper\n");
+    CHECK(run_fortu("bench " + m + " --engines classic,gpu").out ==
+          "fortu: error: --engines: unknown engine 'gpu' (classic, voxel)\n");
+    CHECK(run_fortu("bench " + m + " --sizes 100,1").out == "fortu: error: --sizes: '1' is not an integer in 2..20000\n");
+    CHECK(run_fortu("bench " + m + " --sizes 10,").out == "fortu: error: --sizes: '' is not an integer in 2..20000\n");
+    CHECK(run_fortu("bench " + m + " --repeat 0").out == "fortu: error: --repeat: '0' is not an integer in 1..1000\n");
+    CHECK(run_fortu("bench " + m + " --budget -5").out ==
+          "fortu: error: --budget: '-5' is not a positive number of operations\n");
+    CHECK(run_fortu("bench " + m + " --budget nan").out ==
+          "fortu: error: --budget: 'nan' is not a positive number of operations\n");
+    CHECK(run_fortu("bench " + m + " --plot out.png").out ==
+          "fortu: error: --plot: 'out.png' must end in .svg (fortu writes SVG plots)\n");
+    CHECK(run_fortu("bench " + m + " --json").out == "fortu: error: 'fortu bench': --json needs a value\n");
+    CHECK(run_fortu("bench " + m + " --frobnicate").out == "fortu: error: 'fortu bench': unknown option '--frobnicate'\n");
+    CHECK(run_fortu("bench " + m + " --quick").out == "fortu: error: 'fortu bench': --quick, --out and --examples go with --paper\n");
+    CHECK(run_fortu("bench --paper " + m).out ==
+          "fortu: error: 'fortu bench --paper' runs the papers' models; give no MODEL with it\n");
+    CHECK(run_fortu("bench --paper --sizes 100").out ==
+          "fortu: error: 'fortu bench --paper' chooses its own sizes and writes its files to --out DIR\n");
+    CHECK(run_fortu("bench " + m + " --sizes 20000").out ==
+          "fortu: error: --sizes: 20000x20000 is 400,000,000 points, more than the 268,435,456 fortu allocates\n");
+    const auto help = run_fortu("bench --help", ".", true);
+    CHECK(help.status == 0);
+    CHECK(help.out.starts_with("usage:\n  fortu bench MODEL... [options]   time each model x engine x size"));
+    for (const char* args : {"--sizes 100,1", "--plot out.png", "--frobnicate"})
+        CHECK(run_fortu("bench " + m + " " + args).status == 2);
+}
+
+TEST_CASE("fortu bench: a model that does not load is a model error") {
+    TempDir t;
+    const auto r = run_fortu("bench " + quote((t.path / "missing.fortu").string()));
+    CHECK(r.status == 1);
+    CHECK(r.out.find("fortu: error: ") == 0);
+    const std::string bad = quote(t.write("bad.fortu", "ARGUMENT X, Y;\nRETURN X +;\n"));
+    CHECK(run_fortu("bench " + bad + " --sizes 10").status == 1);
+    CHECK(!std::filesystem::exists(t.path / "out.json"));
+}
+
+TEST_CASE("fortu bench: the over-budget classic cell is printed as skipped with its estimate") {
+    TempDir t;
+    const std::string m = t.write("and.fortu", kAnd);
+    const auto r = run_fortu("bench " + quote(m) + " --sizes 10 --budget 999 --repeat 1", ".", true);
+    REQUIRE(r.status == 0);
+    const auto lines = lines_of(r.out);
+    REQUIRE(lines.size() == 4);
+    const std::string prefix =
+        m + "  classic  10x10            100  skipped: 1e+03 operations, over the budget of 999; estimated ";
+    CHECK(lines[1].starts_with(prefix));
+    CHECK(lines[1].ends_with(" (10 operations per point)"));
+    CHECK(lines[2].starts_with(m + "  voxel    10x10            100     1  "));
+    CHECK(lines[3].starts_with("ratio classic/voxel, " + m + " 10x10: ≈ "));
+    CHECK(lines[3].ends_with(" (estimated: classic skipped)"));
+}
+
+TEST_CASE("fortu bench: JSON and CSV documents have the documented structure") {
+    TempDir t;
+    const std::string m = t.write("and.fortu", kAnd);
+    const auto r = run_fortu("bench " + quote(m) + " --sizes 8,12 --repeat 2 --budget 1000 --threads 1 --json " +
+                             quote((t.path / "b.json").string()) + " --csv " + quote((t.path / "b.csv").string()) +
+                             " --plot " + quote((t.path / "b.svg").string()));
+    REQUIRE(r.status == 0);
+    CHECK(r.out == "");
+
+    const std::string json = t.read("b.json");
+    CHECK(json.rfind("{\n  \"schema\": \"fortu-bench/1\",\n  \"machine\": {\"cpu\": ", 0) == 0);
+    CHECK(json.find("\"options\": {\"repeat\": 2, \"repeat_cap_seconds\": 20, \"threads\": 1, \"budget_operations\": "
+                    "1000, \"memory_method\": ") != std::string::npos);
+    CHECK(count(json, "\"engine\": \"classic\"") == 2);
+    CHECK(count(json, "\"engine\": \"voxel\"") == 2);
+    // 8x8 = 64 points x 10 operations fits the budget; 12x12 = 1440 operations does not.
+    CHECK(json.find("      \"model\": " + std::string("\"") + m + "\",\n      \"engine\": \"classic\",\n"
+                    "      \"size\": [8, 8],\n      \"points\": 64,\n      \"operations_per_point\": 10,\n"
+                    "      \"status\": \"measured\",\n      \"seconds\": [") != std::string::npos);
+    CHECK(json.find("      \"engine\": \"classic\",\n      \"size\": [12, 12],\n      \"points\": 144,\n"
+                    "      \"operations_per_point\": 10,\n      \"status\": \"skipped\",\n"
+                    "      \"skip_reason\": \"1.44e+03 operations, over the budget of 1e+03\",\n"
+                    "      \"estimated_operations\": 1440,\n      \"estimated_seconds\": ") != std::string::npos);
+    CHECK(json.find("      \"engine\": \"voxel\",\n      \"size\": [12, 12],\n      \"points\": 144,\n"
+                    "      \"operations_per_point\": 1,\n      \"status\": \"measured\",\n") != std::string::npos);
+    CHECK(count(json, "\"median_seconds\": ") == 3);
+    CHECK(count(json, "\"peak_rss_bytes\": ") == 3);
+    CHECK(count(json, "\"cpu_seconds\": [") == 3);
+    CHECK(count(json, "\"median_cpu_seconds\": ") == 3);
+    CHECK(count(json, "\"estimated\": false}") == 1);
+    CHECK(count(json, "\"estimated\": true}") == 1);
+    CHECK(json.substr(json.size() - 6) == "  ]\n}\n");
+
+    const auto csv = lines_of(t.read("b.csv"));
+    REQUIRE(csv.size() == 5);
+    CHECK(csv[0] == "model,engine,cols,rows,slices,points,status,runs,min_s,median_s,max_s,s_per_point,"
+                    "ops_per_point,peak_rss_bytes,estimated_s");
+    CHECK(csv[1].rfind(m + ",classic,8,8,1,64,measured,2,", 0) == 0);
+    CHECK(csv[3].rfind(m + ",classic,12,12,1,144,skipped,0,,,,,10,,", 0) == 0);
+    CHECK(csv[4].rfind(m + ",voxel,12,12,1,144,measured,2,", 0) == 0);
+    for (const std::string& row : csv) CHECK(count(row, ",") == 14);
+
+    const std::string svg = t.read("b.svg");
+    CHECK(svg.rfind("<?xml", 0) == 0);
+    CHECK(count(svg, "<g class=\"series\"") == 2);   // classic (8x8 only) and voxel
+    CHECK(svg.find(">" + m + " (classic)</text>") != std::string::npos);
+    CHECK(svg.find(">" + m + " (voxel)</text>") != std::string::npos);
+    CHECK(svg.find(">grid points (log scale)</text>") != std::string::npos);
+    CHECK(svg.find(">wall time (s) (log scale)</text>") != std::string::npos);
+}
+
+TEST_CASE("fortu bench: an unwritable output is an error and leaves nothing behind") {
+    TempDir t;
+    const std::string m = t.write("and.fortu", kAnd);
+    const auto r = run_fortu("bench " + quote(m) + " --sizes 8 --engines voxel --json " +
+                             quote((t.path / "no" / "such" / "b.json").string()));
+    CHECK(r.status == 1);
+    CHECK(r.out.find("fortu: error: ") != std::string::npos);
+    CHECK(!std::filesystem::exists(t.path / "no"));
+}

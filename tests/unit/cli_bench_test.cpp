@@ -2,6 +2,7 @@
 // and CSV documents' structure, an over-budget classic cell kept as skipped with its
 // estimate, and the plot. No assertion looks at how long anything took.
 #include "cli_support.hpp"
+#include "test_support.hpp"
 
 #include <doctest/doctest.h>
 
@@ -15,26 +16,8 @@ using fortu::test::run_fortu;
 
 namespace {
 
-struct TempDir {
-    std::filesystem::path path;
-    TempDir() {
-        path = std::filesystem::temp_directory_path() / ("fortu_bench_test_" + std::to_string(::getpid()) + "_" +
-                                                         std::to_string(counter()++));
-        std::filesystem::create_directories(path);
-    }
-    ~TempDir() { std::filesystem::remove_all(path); }
-    static int& counter() { static int c = 0; return c; }
-    std::string write(const std::string& name, const std::string& text) const {
-        std::ofstream(path / name, std::ios::binary) << text;
-        return (path / name).string();
-    }
-    std::string read(const std::string& name) const {
-        std::ifstream in(path / name, std::ios::binary);
-        std::stringstream s;
-        s << in.rdbuf();
-        return s.str();
-    }
-};
+using TempDir = fortu::test::ScratchDir;
+
 
 // Classic cost: the R0 conjunction's 6 operations plus each argument read twice = 10 per point.
 const char* kAnd = "ARGUMENT X, Y;\nRETURN X & Y;\n";

@@ -3,6 +3,7 @@
 // script in tests/golden/errors/ (NAME.fortu → NAME.expected: `exit N`, then stderr).
 // FORTU_UPDATE_GOLDEN=1 rewrites the expected files (review the diff before committing).
 #include "cli_support.hpp"
+#include "test_support.hpp"
 
 #include <doctest/doctest.h>
 
@@ -15,15 +16,7 @@
 
 using fortu::test::run_fortu;
 using fortu::test::quote;
-
-namespace {
-std::string read_file(const std::filesystem::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-}  // namespace
+using fortu::test::read_file;
 
 TEST_CASE("malformed scripts give exact diagnostics and exit status 1, never a crash") {
     const std::filesystem::path dir = std::filesystem::path(FORTU_SOURCE_DIR) / "tests" / "golden" / "errors";

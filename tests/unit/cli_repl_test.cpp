@@ -3,6 +3,7 @@
 // the saved script giving `fortu run` the same image as :render; errors that do not end the
 // session; the ASCII picture of :show. The interactive side is tests/repl/ (tmux).
 #include "cli_support.hpp"
+#include "test_support.hpp"
 
 #include "runtime/image_io.hpp"
 #include <doctest/doctest.h>
@@ -18,24 +19,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct SessionDir {
-    fs::path path;
-    SessionDir() {
-        std::string name = (fs::temp_directory_path() / "fortu_repl_test_XXXXXX").string();
-        REQUIRE(mkdtemp(name.data()) != nullptr);
-        path = name;
-    }
-    ~SessionDir() { fs::remove_all(path); }
-    std::string write(const std::string& name, const std::string& text) const {
-        std::ofstream(path / name, std::ios::binary) << text;
-        return (path / name).string();
-    }
-    std::string read(const std::string& name) const {
-        std::ifstream in(path / name, std::ios::binary);
-        std::stringstream s;
-        s << in.rdbuf();
-        return s.str();
-    }
+struct SessionDir : fortu::test::ScratchDir {
     /// `fortu repl ARGS < session.txt` in this folder, HOME pointing here; stdout and stderr.
     fortu::test::CommandResult repl(const std::string& input, const std::string& args = "") const {
         write("session.txt", input);

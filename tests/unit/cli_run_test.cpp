@@ -1,6 +1,7 @@
 // tests/unit/cli_run_test.cpp — the command line end to end: usage errors (exit 2) before
 // any work, outputs written in each format, the classic budget, eval and ir output.
 #include "cli_support.hpp"
+#include "test_support.hpp"
 
 #include <doctest/doctest.h>
 
@@ -12,20 +13,8 @@ using fortu::test::quote;
 
 namespace {
 
-struct TempDir {
-    std::filesystem::path path;
-    TempDir() {
-        path = std::filesystem::temp_directory_path() /
-               ("fortu_cli_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter()++));
-        std::filesystem::create_directories(path);
-    }
-    ~TempDir() { std::filesystem::remove_all(path); }
-    static int& counter() { static int c = 0; return c; }
-    std::string write(const std::string& name, const std::string& text) const {
-        std::ofstream(path / name, std::ios::binary) << text;
-        return (path / name).string();
-    }
-};
+using TempDir = fortu::test::ScratchDir;
+
 
 const char* kDisc = "ARGUMENT X, Y;\nRETURN 0.25 - X*X - Y*Y;\n";
 

@@ -1,5 +1,6 @@
 // tests/unit/cli_vm_test.cpp — the command line with .vm models, --sign-only and
 // --precision: they run, agree with the default mode, and misuse is a usage error.
+#include "test_support.hpp"
 #include "cli_support.hpp"
 
 #include <doctest/doctest.h>
@@ -14,12 +15,6 @@ namespace {
 
 std::string vm(const char* name) { return quote(std::string(FORTU_SHARED_DIR) + "/data/" + name); }
 
-std::string read(const std::filesystem::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
 
 }  // namespace
 
@@ -47,7 +42,7 @@ TEST_CASE("--sign-only writes the same sign as the full evaluation") {
     std::filesystem::create_directories(dir);
     REQUIRE(run_fortu("run " + vm("prospero.vm") + " --size 96 --sign-only -o sign.csv", dir.string()).status == 0);
     REQUIRE(run_fortu("run " + vm("prospero.vm") + " --size 96 -o full.csv", dir.string()).status == 0);
-    std::istringstream sign(read(dir / "sign.csv")), full(read(dir / "full.csv"));
+    std::istringstream sign(read_file(dir / "sign.csv")), full(read_file(dir / "full.csv"));
     std::string a, b;
     std::getline(sign, a);
     std::getline(full, b);

@@ -2,6 +2,7 @@
 // in both engines with equal values, S1 Fig. 3a's two forms draw the same contour, long FOR
 // loops lower quickly, and the rfunc, shapes, perturb and singular libraries compute what
 // their formulas say (fv-method.md §2.4, §5).
+#include "test_support.hpp"
 #include "interp_toolkit_support.hpp"
 
 #include "interp/classic_cost.hpp"
@@ -20,16 +21,10 @@ using namespace fortu::test;
 
 namespace {
 
-std::string read_text(const std::filesystem::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
 
 Model compile_example(const std::string& name) {
     const std::filesystem::path path = std::filesystem::path(FORTU_SOURCE_DIR) / "examples" / name;
-    return compile_with_stdlib(read_text(path), path.string());
+    return compile_with_stdlib(read_file(path), path.string());
 }
 
 double at(const Model& model, double x, double y, double z = 0, EngineKind engine = EngineKind::Voxel) {
@@ -285,7 +280,7 @@ TEST_CASE("FLOZ3_MESH: the 80-triangle sphere is positive inside, zero on the me
 
 TEST_CASE("IMAGE reads a picture's grey levels as a table, row after row from the top") {
     // examples/vyatkin_bumps.pgm is plain text (P2), so the test reads it on its own
-    std::istringstream pgm(read_text(std::filesystem::path(FORTU_SOURCE_DIR) / "examples" / "vyatkin_bumps.pgm"));
+    std::istringstream pgm(read_file(std::filesystem::path(FORTU_SOURCE_DIR) / "examples" / "vyatkin_bumps.pgm"));
     std::string magic, line;
     std::getline(pgm, magic);
     std::getline(pgm, line);  // the comment

@@ -1,5 +1,6 @@
 // tests/unit/runtime_output_test.cpp — the extension table, atomic writes, and the byte-exact
 // formats: npy (header bytes, size, payload), csv (lines), svg (the contour).
+#include "test_support.hpp"
 #include "runtime/atomic_file.hpp"
 #include "runtime/contour.hpp"
 #include "runtime/npy.hpp"
@@ -24,18 +25,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// A fresh directory, removed with everything in it at the end of the test.
-struct ScratchDir {
-    fs::path path;
-    ScratchDir() {
-        std::string name = (fs::temp_directory_path() / "fortu_runtime_test_XXXXXX").string();
-        REQUIRE(mkdtemp(name.data()) != nullptr);
-        path = name;
-    }
-    ~ScratchDir() { fs::remove_all(path); }
-    std::string operator/(const std::string& name) const { return (path / name).string(); }
-    std::size_t entries() const { return std::distance(fs::directory_iterator(path), fs::directory_iterator()); }
-};
+using fortu::test::ScratchDir;
+
 
 std::string read_bytes(const std::string& path) {
     std::ifstream in(path, std::ios::binary);

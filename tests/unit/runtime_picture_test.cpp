@@ -1,5 +1,6 @@
 // tests/unit/runtime_picture_test.cpp — files written through OpenImageIO and read back: the
 // picture's colours (inside, outside, contour, invalid), 3D slices, the float EXR, M-images.
+#include "test_support.hpp"
 #include "runtime/exr.hpp"
 #include "runtime/fv_model.hpp"
 #include "runtime/output.hpp"
@@ -23,17 +24,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct ScratchDir {
-    fs::path path;
-    ScratchDir() {
-        std::string name = (fs::temp_directory_path() / "fortu_runtime_test_XXXXXX").string();
-        REQUIRE(mkdtemp(name.data()) != nullptr);
-        path = name;
-    }
-    ~ScratchDir() { fs::remove_all(path); }
-    std::string operator/(const std::string& name) const { return (path / name).string(); }
-    std::size_t entries() const { return std::distance(fs::directory_iterator(path), fs::directory_iterator()); }
-};
+using fortu::test::ScratchDir;
+
 
 struct Image {
     OIIO::ImageSpec spec;

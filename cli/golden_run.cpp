@@ -67,24 +67,11 @@ private:
 /// The grid of a golden run: the script's domain, the test's size (default: RECTBMP, else
 /// 64x64 in 2D and 16x16x16 in 3D — small, so a suite stays fast).
 Grid golden_grid(const Model& model, const GoldenTest& test) {
-    Grid grid;
-    grid.dims = model.dims();
-    Axis* axes[3] = {&grid.x, &grid.y, &grid.z};
-    for (int a = 0; a < 3; ++a) {
-        const AxisRange r = a < static_cast<int>(model.arguments.size()) && model.ranges[a] ? *model.ranges[a]
-                                                                                            : AxisRange{};
-        axes[a]->min = r.min;
-        axes[a]->max = r.max;
-    }
     std::array<int, 3> n{64, 64, 1};
     if (model.raster) n = {(*model.raster)[0], (*model.raster)[1], 1};
-    if (grid.dims == 3) n = test.size_3d.value_or(std::array<int, 3>{16, 16, 16});
+    if (model.dims() == 3) n = test.size_3d.value_or(std::array<int, 3>{16, 16, 16});
     else if (test.size_2d) n = {(*test.size_2d)[0], (*test.size_2d)[1], 1};
-    if (model.arguments.size() == 1) n[1] = 1;
-    grid.x.nodes = n[0];
-    grid.y.nodes = n[1];
-    grid.z.nodes = grid.dims == 3 ? n[2] : 1;
-    return grid;
+    return model_grid(model, n);
 }
 
 std::string coordinates_text(const std::vector<double>& p) {
@@ -438,17 +425,8 @@ void TestRun::check_singular(const Model& model) {
     // output can be pasted into the test. Points match within 1e-6 (or golden-tolerance if
     // larger) in 2D, where they are refined to ~1e-12; within one search step in 3D, where
     // each is one point on an edge curve.
-    Grid grid;
-    grid.dims = model.dims();
-    Axis* axes[3] = {&grid.x, &grid.y, &grid.z};
-    for (int a = 0; a < 3; ++a) {
-        const AxisRange r = a < static_cast<int>(model.arguments.size()) && model.ranges[a] ? *model.ranges[a]
-                                                                                            : AxisRange{};
-        axes[a]->min = r.min;
-        axes[a]->max = r.max;
-        axes[a]->nodes = grid.dims == 3 ? 48 : a < 2 ? 401 : 1;
-    }
-    if (model.arguments.size() == 1) grid.y.nodes = 1;
+    const Grid grid = model_grid(model, model.dims() == 3 ? std::array<int, 3>{48, 48, 48}
+                                                          : std::array<int, 3>{401, 401, 1});
     std::vector<std::array<double, 3>> found;
     for (const SingularPoint& p : find_singular_points(model, grid)) found.push_back(p.point);
     std::vector<std::array<double, 3>> expected;

@@ -53,35 +53,13 @@ std::optional<Model> load_model(const CliOptions& o, bool show_notes, double& se
 }
 
 Grid make_grid(const Model& model, const CliOptions& o) {
-    Grid grid;
-    grid.dims = model.dims();
-    Axis* axes[3] = {&grid.x, &grid.y, &grid.z};
-    const int axis_count = static_cast<int>(model.arguments.size());
-    for (int a = 0; a < 3; ++a) {
-        AxisRange r{-1.0, 1.0};
-        if (a < axis_count && model.ranges[a]) r = *model.ranges[a];
-        if (o.domain[a]) r = *o.domain[a];
-        axes[a]->min = r.min;
-        axes[a]->max = r.max;
-    }
-    // Node counts: --size, else RECTBMP, else 256² / 64³; a 1-argument model has one row.
-    int nodes[3] = {256, 256, 1};
-    if (grid.dims == 3) nodes[0] = nodes[1] = nodes[2] = 64;
-    if (model.raster) { nodes[0] = (*model.raster)[0]; nodes[1] = (*model.raster)[1]; }
-    if (!o.size.empty()) {
-        for (int a = 0; a < 3; ++a) nodes[a] = o.size[std::min<std::size_t>(a, o.size.size() - 1)];
-        if (grid.dims == 2 && o.size.size() == 3)
-            throw UsageError(fmt::format("--size: the model has {} argument(s); give N or WxH", axis_count));
-    }
-    if (grid.dims == 2) nodes[2] = 1;
-    if (axis_count == 1) nodes[1] = 1;
-    grid.x.nodes = nodes[0];
-    grid.y.nodes = nodes[1];
-    grid.z.nodes = nodes[2];
-    const double points = double(nodes[0]) * nodes[1] * nodes[2];
+    if (model.dims() == 2 && o.size.size() == 3)
+        throw UsageError(fmt::format("--size: the model has {} argument(s); give N or WxH", model.arguments.size()));
+    const Grid grid = model_grid(model, grid_nodes(model, o.size), o.domain);
+    const double points = double(grid.cols()) * grid.rows() * grid.slices();
     if (points > double(kMaxGridPoints))
         throw UsageError(fmt::format("--size: {}x{}{} is {} points, more than the {} fortu allocates",
-                                     nodes[0], nodes[1], grid.dims == 3 ? fmt::format("x{}", nodes[2]) : "",
+                                     grid.cols(), grid.rows(), grid.dims == 3 ? fmt::format("x{}", grid.slices()) : "",
                                      format_operations(points), format_operations(double(kMaxGridPoints))));
     return grid;
 }

@@ -12,6 +12,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace fortu {
 
@@ -46,6 +47,16 @@ struct PointValue {
 
 /// The value and gradient at one point (coordinates beyond the model's arguments ignored).
 PointValue evaluate_point(const Model& model, std::array<double, 3> point, EngineKind engine);
+
+/// The grid over the model's box — per axis `domain[a]` if given, else the script's range
+/// (ARGUMENT X(5), RECTANGLE), else [-1, 1] — with `nodes` per axis; a 2D model gets one
+/// slice and a one-argument model one row.
+Grid model_grid(const Model& model, std::array<int, 3> nodes,
+                const std::array<std::optional<AxisRange>, 3>& domain = {});
+
+/// Nodes per axis for a run: `size` (1 to 3 numbers, the last repeated), else RECTBMP, else
+/// 256² (2D) or 64³ (3D).
+std::array<int, 3> grid_nodes(const Model& model, const std::vector<int>& size);
 
 /// Deepest recursion the classic engine accepts (its walk is recursive by definition).
 inline constexpr int kClassicMaxDepth = 20000;

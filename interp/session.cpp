@@ -327,27 +327,16 @@ void Session::set_rsystem(std::optional<RSystem> rsystem) {
 }
 
 Grid Session::grid() const {
+    if (model_) return model_grid(*model_, grid_nodes(*model_, size_), domain_);
+    // No model yet: the 2D grid a two-argument model would get.
     Grid grid;
-    const int axis_count = model_ ? static_cast<int>(model_->arguments.size()) : 2;
-    grid.dims = axis_count == 3 ? 3 : 2;
-    Axis* axes[3] = {&grid.x, &grid.y, &grid.z};
-    for (int a = 0; a < 3; ++a) {
-        AxisRange r{-1.0, 1.0};
-        if (model_ && a < axis_count && model_->ranges[a]) r = *model_->ranges[a];
-        if (domain_[a]) r = *domain_[a];
+    Axis* axes[2] = {&grid.x, &grid.y};
+    for (int a = 0; a < 2; ++a) {
+        const AxisRange r = domain_[a].value_or(AxisRange{});
         axes[a]->min = r.min;
         axes[a]->max = r.max;
+        axes[a]->nodes = size_.empty() ? 256 : size_[std::min<std::size_t>(a, size_.size() - 1)];
     }
-    int nodes[3] = {256, 256, 1};
-    if (grid.dims == 3) nodes[0] = nodes[1] = nodes[2] = 64;
-    if (model_ && model_->raster) { nodes[0] = (*model_->raster)[0]; nodes[1] = (*model_->raster)[1]; }
-    if (!size_.empty())
-        for (int a = 0; a < 3; ++a) nodes[a] = size_[std::min<std::size_t>(a, size_.size() - 1)];
-    if (grid.dims == 2) nodes[2] = 1;
-    if (axis_count == 1) nodes[1] = 1;
-    grid.x.nodes = nodes[0];
-    grid.y.nodes = nodes[1];
-    grid.z.nodes = nodes[2];
     return grid;
 }
 

@@ -22,17 +22,7 @@ bool agree(double a, double b) {
 }
 
 Grid small_grid(const Model& model) {
-    Grid g;
-    g.dims = model.dims();
-    Axis* axes[3] = {&g.x, &g.y, &g.z};
-    for (int a = 0; a < 3; ++a) {
-        if (a < static_cast<int>(model.arguments.size()) && model.ranges[a]) {
-            axes[a]->min = model.ranges[a]->min;
-            axes[a]->max = model.ranges[a]->max;
-        }
-        axes[a]->nodes = g.dims == 3 ? 24 : (a < 2 ? 48 : 1);
-    }
-    return g;
+    return model_grid(model, model.dims() == 3 ? std::array<int, 3>{24, 24, 24} : std::array<int, 3>{48, 48, 1});
 }
 
 std::vector<std::filesystem::path> ranok_scripts() {

@@ -18,18 +18,8 @@ using namespace fortu;
 namespace {
 
 Grid grid_for(const Model& model, int nodes_2d, int nodes_3d) {
-    Grid g;
-    g.dims = model.dims();
-    Axis* axes[3] = {&g.x, &g.y, &g.z};
-    for (int a = 0; a < 3; ++a) {
-        if (a < static_cast<int>(model.arguments.size()) && model.ranges[a]) {
-            axes[a]->min = model.ranges[a]->min;
-            axes[a]->max = model.ranges[a]->max;
-        }
-        axes[a]->nodes = g.dims == 3 ? nodes_3d : (a < 2 ? nodes_2d : 1);
-    }
-    if (model.arguments.size() == 1) g.y.nodes = 1;
-    return g;
+    return model_grid(model, model.dims() == 3 ? std::array<int, 3>{nodes_3d, nodes_3d, nodes_3d}
+                                               : std::array<int, 3>{nodes_2d, nodes_2d, 1});
 }
 
 std::optional<Model> load(const std::filesystem::path& path, std::string& errors) {

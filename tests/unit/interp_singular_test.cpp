@@ -14,17 +14,7 @@ using fortu::test::compile_text;
 
 namespace {
 
-Grid box(const Model& model, int nodes) {
-    Grid g;
-    g.dims = model.dims();
-    Axis* axes[3] = {&g.x, &g.y, &g.z};
-    for (int a = 0; a < g.dims; ++a) {
-        axes[a]->min = model.ranges[a]->min;
-        axes[a]->max = model.ranges[a]->max;
-        axes[a]->nodes = nodes;
-    }
-    return g;
-}
+Grid box(const Model& model, int nodes) { return model_grid(model, {nodes, nodes, nodes}); }
 
 std::vector<std::array<double, 2>> points_2d(const std::string& text, int nodes = 401) {
     auto c = compile_text(text);

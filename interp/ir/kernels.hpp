@@ -7,6 +7,7 @@
 #include "interp/ir/dual.hpp"
 
 #include <cmath>
+#include <concepts>
 #include <limits>
 #include <type_traits>
 
@@ -14,61 +15,34 @@ namespace fortu::ir {
 
 inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// ---- double ----
-inline double k_sqrt(double a) { return std::sqrt(a); }
-inline double k_abs(double a) { return std::fabs(a); }
-inline double k_exp(double a) { return std::exp(a); }
-inline double k_log(double a) { return std::log(a); }
-inline double k_log10(double a) { return std::log10(a); }
-inline double k_log2(double a) { return std::log2(a); }
-inline double k_sin(double a) { return std::sin(a); }
-inline double k_cos(double a) { return std::cos(a); }
-inline double k_tan(double a) { return std::tan(a); }
-inline double k_asin(double a) { return std::asin(a); }
-inline double k_acos(double a) { return std::acos(a); }
-inline double k_atan(double a) { return std::atan(a); }
-inline double k_atan2(double a, double b) { return std::atan2(a, b); }
-inline double k_sinh(double a) { return std::sinh(a); }
-inline double k_cosh(double a) { return std::cosh(a); }
-inline double k_tanh(double a) { return std::tanh(a); }
-inline double k_sign(double a) { return a > 0 ? 1.0 : a < 0 ? -1.0 : a; }  // keeps NaN, ±0
-inline double k_floor(double a) { return std::floor(a); }
-inline double k_ceil(double a) { return std::ceil(a); }
-inline double k_mod(double a, double b) { return std::fmod(a, b); }
-inline double k_hypot(double a, double b) { return std::hypot(a, b); }
-inline double k_pow(double a, double b) { return std::pow(a, b); }
+// ---- double and float (float: the voxel engine's float32 mode, the same formulas) ----
+template <std::floating_point F> inline F k_sqrt(F a) { return std::sqrt(a); }
+template <std::floating_point F> inline F k_abs(F a) { return std::fabs(a); }
+template <std::floating_point F> inline F k_exp(F a) { return std::exp(a); }
+template <std::floating_point F> inline F k_log(F a) { return std::log(a); }
+template <std::floating_point F> inline F k_log10(F a) { return std::log10(a); }
+template <std::floating_point F> inline F k_log2(F a) { return std::log2(a); }
+template <std::floating_point F> inline F k_sin(F a) { return std::sin(a); }
+template <std::floating_point F> inline F k_cos(F a) { return std::cos(a); }
+template <std::floating_point F> inline F k_tan(F a) { return std::tan(a); }
+template <std::floating_point F> inline F k_asin(F a) { return std::asin(a); }
+template <std::floating_point F> inline F k_acos(F a) { return std::acos(a); }
+template <std::floating_point F> inline F k_atan(F a) { return std::atan(a); }
+template <std::floating_point F> inline F k_atan2(F a, F b) { return std::atan2(a, b); }
+template <std::floating_point F> inline F k_sinh(F a) { return std::sinh(a); }
+template <std::floating_point F> inline F k_cosh(F a) { return std::cosh(a); }
+template <std::floating_point F> inline F k_tanh(F a) { return std::tanh(a); }
+template <std::floating_point F> inline F k_sign(F a) { return a > 0 ? F(1) : a < 0 ? F(-1) : a; }  // keeps NaN, ±0
+template <std::floating_point F> inline F k_floor(F a) { return std::floor(a); }
+template <std::floating_point F> inline F k_ceil(F a) { return std::ceil(a); }
+template <std::floating_point F> inline F k_mod(F a, F b) { return std::fmod(a, b); }
+template <std::floating_point F> inline F k_hypot(F a, F b) { return std::hypot(a, b); }
+template <std::floating_point F> inline F k_pow(F a, F b) { return std::pow(a, b); }
 // min/max propagate NaN from either side (an invalid operand makes an invalid point),
 // unlike std::fmin; written without branches on the value so loops vectorise.
-inline double k_min(double a, double b) { return (a < b || a != a) ? a : b; }
-inline double k_max(double a, double b) { return (a > b || a != a) ? a : b; }
-inline double k_select(double c, double a, double b) { return c > 0 ? a : (c != c ? c : b); }
-
-// ---- float (the voxel engine's float32 mode: same formulas, single precision) ----
-inline float k_sqrt(float a) { return std::sqrt(a); }
-inline float k_abs(float a) { return std::fabs(a); }
-inline float k_exp(float a) { return std::exp(a); }
-inline float k_log(float a) { return std::log(a); }
-inline float k_log10(float a) { return std::log10(a); }
-inline float k_log2(float a) { return std::log2(a); }
-inline float k_sin(float a) { return std::sin(a); }
-inline float k_cos(float a) { return std::cos(a); }
-inline float k_tan(float a) { return std::tan(a); }
-inline float k_asin(float a) { return std::asin(a); }
-inline float k_acos(float a) { return std::acos(a); }
-inline float k_atan(float a) { return std::atan(a); }
-inline float k_atan2(float a, float b) { return std::atan2(a, b); }
-inline float k_sinh(float a) { return std::sinh(a); }
-inline float k_cosh(float a) { return std::cosh(a); }
-inline float k_tanh(float a) { return std::tanh(a); }
-inline float k_sign(float a) { return a > 0 ? 1.0f : a < 0 ? -1.0f : a; }
-inline float k_floor(float a) { return std::floor(a); }
-inline float k_ceil(float a) { return std::ceil(a); }
-inline float k_mod(float a, float b) { return std::fmod(a, b); }
-inline float k_hypot(float a, float b) { return std::hypot(a, b); }
-inline float k_pow(float a, float b) { return std::pow(a, b); }
-inline float k_min(float a, float b) { return (a < b || a != a) ? a : b; }
-inline float k_max(float a, float b) { return (a > b || a != a) ? a : b; }
-inline float k_select(float c, float a, float b) { return c > 0 ? a : (c != c ? c : b); }
+template <std::floating_point F> inline F k_min(F a, F b) { return (a < b || a != a) ? a : b; }
+template <std::floating_point F> inline F k_max(F a, F b) { return (a > b || a != a) ? a : b; }
+template <std::floating_point F> inline F k_select(F c, F a, F b) { return c > 0 ? a : (c != c ? c : b); }
 
 // ---- Dual (forward-mode derivatives) ----
 inline Dual k_sqrt(const Dual& a) { double s = std::sqrt(a.v); return chain(a, s, 0.5 / s); }

@@ -9,6 +9,18 @@
 namespace fortu {
 namespace {
 
+/// OpenImageIO starts worker-thread pools (its own and OpenEXR's) on first use. fortu writes
+/// one image at a time, so they buy nothing; with no pool no threads outlive the write, which
+/// also keeps LeakSanitizer's exit-time thread stop reliable in the asan build.
+void single_threaded_once() {
+    static const bool done = [] {
+        OIIO::attribute("threads", 1);
+        OIIO::attribute("exr_threads", -1);
+        return true;
+    }();
+    (void)done;
+}
+
 std::string write_layers(const std::string& file, const std::vector<ImageLayer>& layers) {
     if (layers.empty()) return "no image to write";
     auto out = OIIO::ImageOutput::create(file);
@@ -69,5 +81,6 @@ constexpr ImageModule kModule{kImageModuleVersion, &write_layers, &read_first, &
 }  // namespace fortu
 
 extern "C" __attribute__((visibility("default"))) const fortu::ImageModule* fortu_image_module() {
+    fortu::single_threaded_once();
     return &fortu::kModule;
 }

@@ -126,7 +126,6 @@ public:
         : options_(options), sink_(sink), model_(model), graph_(model.graph) {}
 
     void run(const std::shared_ptr<const SourceFile>& source) {
-        model_.sources.push_back(source);
         included_.insert(canonical(source->path()));
         const int errors_before = sink_.error_count();
         ast::Script script = parse_script(*source, sink_);
@@ -448,7 +447,6 @@ private:
                 return;
             }
             included_.insert(key);
-            model_.sources.push_back(source);
             sink_.retain(source);
             const int errors_before = sink_.error_count();
             ast::Script script = parse_script(*source, sink_);

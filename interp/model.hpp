@@ -31,7 +31,6 @@ struct AxisRange {
 };
 
 struct Model {
-    std::vector<std::shared_ptr<const SourceFile>> sources;  ///< the script and its includes
     ir::Graph graph;
     ir::NodeId root = ir::kNoNode;
     std::vector<std::string> arguments;                      ///< 1..3 names, in order

@@ -73,7 +73,6 @@ bool is_vm_path(std::string_view path) {
 
 std::optional<Model> import_vm(std::shared_ptr<const SourceFile> source, DiagnosticSink& sink) {
     Model model;
-    model.sources.push_back(source);
     std::unordered_map<std::string_view, ir::NodeId> names;
     ir::NodeId last = ir::kNoNode;
     bool uses_z = false;

@@ -96,6 +96,8 @@ options:
   --float32                   .npy as float32 instead of float64
   --precision float64|float32 the voxel engine's numbers (default float64; float32 is
                               about twice as fast, values within 1e-5 relative to the field)
+  --no-hoist                  the voxel engine computes X-only and Y-only sub-expressions
+                              at every point instead of once per column/row (to compare)
   --sign-only                 compute only the sign (1 inside, 0 boundary, -1 outside, NaN
                               invalid) with the interval-pruned quadtree/octree renderer:
                               for sign pictures and contours, much faster on large models
@@ -161,6 +163,7 @@ CliOptions parse_command_line(const std::vector<std::string>& args) {
         else if (a == "--force") o.force = true;
         else if (a == "--float32") o.float32 = true;
         else if (a == "--sign-only") o.sign_only = true;
+        else if (a == "--no-hoist") o.hoist = false;
         else if (a == "--precision") {
             const std::string& p = value("--precision");
             if (p == "float64") o.precision = Precision::Float64;

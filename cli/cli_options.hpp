@@ -35,6 +35,7 @@ struct CliOptions {
     int threads = 0;
     bool float32 = false;                      ///< --float32 for .npy output
     Precision precision = Precision::Float64;  ///< --precision (voxel engine)
+    bool hoist = true;                          ///< off with --no-hoist (voxel engine)
     bool sign_only = false;                    ///< --sign-only: interval-pruned sign render
 };
 

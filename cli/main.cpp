@@ -202,6 +202,7 @@ int command_run(const CliOptions& o) {
     EvalOptions eval;
     eval.threads = o.threads;
     eval.precision = o.precision;
+    eval.hoist = o.hoist;
     eval.progress = [&](std::size_t n) { progress.advance(n); };
     Stopwatch clock;
     Field field = o.sign_only ? sign_render(model->graph, model->root, grid, eval)
@@ -242,7 +243,7 @@ int command_run(const CliOptions& o) {
         std::cout << fmt::format(
             "model: {}\ngrid: {} = {} points, x [{}, {}], y [{}, {}]{}\n"
             "nodes: {} ({} operations), shared: {}, hash-consing reuses: {}\n"
-            "classic cost: {} operations per point; voxel: {}\n"
+            "classic cost: {} operations per point; voxel: {}{}\n"
             "engine: {}{}, threads: {}\n"
             "time: compile {:.3f} s, evaluate {:.3f} s, write {:.3f} s\n"
             "speed: {} points/s\n"
@@ -251,7 +252,8 @@ int command_run(const CliOptions& o) {
             o.positional[0], grid_text(grid), format_operations(double(grid.points())), grid.x.min, grid.x.max,
             grid.y.min, grid.y.max, grid.dims == 3 ? fmt::format(", z [{}, {}]", grid.z.min, grid.z.max) : "",
             s.nodes, s.operations, s.shared, s.reuses, format_operations(s.classic_operations),
-            format_operations(double(s.operations)), o.sign_only ? "interval sign renderer" : engine_name(o.engine),
+            format_operations(double(s.operations)),
+            o.engine == EngineKind::Voxel && !o.sign_only && o.hoist ? hoisted_text(s) : "", o.sign_only ? "interval sign renderer" : engine_name(o.engine),
             o.engine == EngineKind::Voxel && !o.sign_only && o.precision == Precision::Float32 ? " (float32)" : "", o.threads > 0 ? o.threads : int(std::max(1u, std::thread::hardware_concurrency())),
             compile_seconds, eval_seconds, write_seconds,
             format_operations(eval_seconds > 0 ? double(grid.points()) / eval_seconds : 0.0),

@@ -343,17 +343,29 @@ void Repl::time() {
         const EvalReport& r = *last_;
         std::string what;
         if (r.reused)
-            what = "reused: the values of this model on this grid were cached, nothing was evaluated";
+            what = "reused: the values of this model on this grid were kept, nothing was evaluated";
         else if (r.cancelled)
             what = "it was interrupted";
-        else
-            what = fmt::format("evaluated all {} nodes in {}; {} of them were unchanged since the previous "
-                               "evaluation (the engines evaluate a model whole, so they were computed again)",
-                               r.nodes, seconds_text(r.seconds), r.unchanged_nodes);
+        else if (r.engine == EngineKind::Classic)
+            what = fmt::format("computed all {} operations in {} (the classic engine saves nothing)",
+                               r.operations, seconds_text(r.seconds));
+        else {
+            what = fmt::format("computed {} of {} operations in {}", r.computed_operations, r.operations,
+                               seconds_text(r.seconds));
+            if (!r.reused_definitions.empty())
+                what += fmt::format("; reused the kept values of {} ({})",
+                                    r.reused_definitions.size() == 1 ? "1 definition"
+                                        : fmt::format("{} definitions", r.reused_definitions.size()),
+                                    fmt::join(r.reused_definitions, ", "));
+            if (r.kept_definitions > 0)
+                what += fmt::format("; kept the values of {} definition{} for next time", r.kept_definitions,
+                                    r.kept_definitions == 1 ? "" : "s");
+        }
         io_.out << fmt::format("last evaluation: {} engine, {} points; {}\n", engine_name(r.engine),
                                grid_text(r.grid), what);
     }
     const Model& m = session_.model();
+    io_.out << "the whole model, nothing reused:\n";
     for (EngineKind kind : {EngineKind::Classic, EngineKind::Voxel}) {
         const EngineKind saved = engine_;
         engine_ = kind;

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace fortu {
 
@@ -24,6 +25,8 @@ Field evaluate_grid(const ir::Graph& graph, ir::NodeId root, const Grid& grid, E
     Field field;
     field.grid = grid;
     field.values.assign(grid.points(), std::nan(""));
+    if (engine == EngineKind::Classic && !(options.known.empty() && options.keep.empty()))
+        throw std::invalid_argument("known and kept node values are the voxel engine's (the classic engine saves nothing)");
     if (engine == EngineKind::Classic) classic_evaluate_grid(graph, root, field, options);
     else voxel_evaluate_grid(graph, root, field, options);
     return field;

@@ -30,6 +30,15 @@ struct EvalOptions {
     Precision precision = Precision::Float64;          ///< voxel engine only
     std::function<void(std::size_t points)> progress;  ///< called as tiles/rows complete
     const std::atomic<bool>* cancel = nullptr;         ///< set to stop early (REPL Ctrl-C)
+    /// Voxel engine: compute X-only sub-expressions once per column and those without X
+    /// once per row (hoist.hpp). Off only to compare against the plain tape.
+    bool hoist = true;
+    /// Voxel engine: nodes whose values on this grid are already known (grid order, one per
+    /// point); they are read instead of computed, and what only they use is not computed.
+    std::vector<std::pair<ir::NodeId, const double*>> known;
+    /// Voxel engine: nodes whose values are also written out (grid order, one per point),
+    /// beside the root's. Incomplete if the evaluation was cancelled.
+    std::vector<std::pair<ir::NodeId, double*>> keep;
 };
 
 /// Samples the model on every node of `grid` with the chosen engine. Both engines give

@@ -3,6 +3,7 @@
 
 #include "interp/classic_cost.hpp"
 #include "interp/engine.hpp"
+#include "interp/hoist.hpp"
 #include "runtime/resources.hpp"
 
 #include <fmt/format.h>
@@ -26,6 +27,12 @@ std::vector<int> use_counts(const ir::Graph& graph, const std::vector<ir::NodeId
 }
 }  // namespace
 
+std::string hoisted_text(const IrStats& s) {
+    if (s.hoisted_operations == 0) return "";
+    return fmt::format(" ({} of them once per grid column or row on a grid of 64+ columns)",
+                       format_operations(static_cast<double>(s.hoisted_operations)));
+}
+
 IrStats ir_stats(const Model& model) {
     IrStats s;
     const std::vector<ir::NodeId> order = model.graph.reachable(model.root);
@@ -38,6 +45,7 @@ IrStats ir_stats(const Model& model) {
     s.reuses = model.graph.reuse_count();
     s.depth = dag_depth(model.graph, model.root);
     s.classic_operations = classic_operations_per_point(model.graph, model.root);
+    s.hoisted_operations = plan_hoisting(model.graph, {model.root}, {}).hoisted_operations;
     return s;
 }
 
@@ -52,10 +60,10 @@ std::string print_ir(const Model& model, const std::string& title) {
     for (const std::string& a : model.arguments) names += (names.empty() ? "" : ", ") + a;
     std::string out = fmt::format(
         "; {}\n; arguments: {}\n; nodes: {} ({} operations, {} leaves), shared: {}, "
-        "hash-consing reuses: {}, depth: {}\n; voxel: {} operations per point\n"
+        "hash-consing reuses: {}, depth: {}\n; voxel: {} operations per point{}\n"
         "; classic: {} operations per point\n",
         title, names, s.nodes, s.operations, s.nodes - s.operations, s.shared, s.reuses, s.depth,
-        format_operations(static_cast<double>(s.operations)), format_operations(s.classic_operations));
+        format_operations(static_cast<double>(s.operations)), hoisted_text(s), format_operations(s.classic_operations));
     for (ir::NodeId id : order) {
         const ir::Node& n = model.graph.node(id);
         std::string line = fmt::format("%{} = {}", number[id], ir::op_name(n.op));

@@ -15,9 +15,12 @@ struct IrStats {
     std::size_t reuses = 0;       ///< times lowering asked for a node that already existed
     int depth = 0;                ///< longest operand chain
     double classic_operations = 0;  ///< classic engine, per point
+    std::size_t hoisted_operations = 0;  ///< of `operations`, done per grid column or row instead (hoist.hpp)
 };
 
 IrStats ir_stats(const Model& model);
+/// " (N of them once per grid column or row ...)", or "" when nothing is hoisted.
+std::string hoisted_text(const IrStats& stats);
 
 /// The header (counts) followed by one line per node: `%id = op operands`.
 std::string print_ir(const Model& model, const std::string& title);

@@ -99,6 +99,7 @@ public:
         folded_[lower_case(key)].insert(key);
         bindings_[key] = std::move(binding);
     }
+    bool top_level() const { return parent_ == nullptr; }
     const Binding* exact(const std::string& name) const {
         if (auto it = bindings_.find(name); it != bindings_.end()) return &it->second;
         return parent_ ? parent_->exact(name) : nullptr;
@@ -223,6 +224,8 @@ private:
                           fmt::format("CONSTANT '{}' is not a finite number", def.name));
         }
         poisoned_ = false;
+        if (scope.top_level() && !(ir::op_flags(graph_.node(node).op) & ir::kLeaf))
+            model_.definitions.emplace_back(def.name, node);
         scope.define(std::move(b));
     }
 

@@ -11,6 +11,8 @@
 #include <chrono>
 #include <cstring>
 #include <filesystem>
+#include <set>
+#include <span>
 #include <fmt/format.h>
 
 namespace fortu {
@@ -67,7 +69,10 @@ uint64_t grid_key(const Grid& g) {
 
 std::string number(double v) { return fmt::format("{}", v); }
 
-constexpr std::size_t kCachedFields = 4;
+/// Memory for kept values: 256 MiB is 512 definitions on the default 256² grid.
+constexpr std::size_t kKeptBytes = std::size_t{256} << 20;
+/// Each kept definition is one more tape output, live to the end of every tile.
+constexpr std::size_t kMaxKeptPerEvaluation = 64;
 
 }  // namespace
 
@@ -110,8 +115,7 @@ void Session::reset() {
     domain_ = {};
     size_.clear();
     section_ = "VARIABLE";
-    cache_.clear();
-    last_node_hashes_.clear();
+    kept_.clear();
 }
 
 Session::Assembled Session::assemble(const std::vector<Entry>& entries, const Entry* probe) const {
@@ -351,36 +355,99 @@ Grid Session::grid_with_nodes(int cols, int rows) const {
     return grid;
 }
 
+const std::vector<double>* Session::find_kept(uint64_t key) {
+    for (auto it = kept_.begin(); it != kept_.end(); ++it) {
+        if (it->key != key) continue;
+        kept_.splice(kept_.begin(), kept_, it);   // moves no values: pointers stay valid
+        return &kept_.front().values;
+    }
+    return nullptr;
+}
+
+void Session::keep(uint64_t key, std::vector<double> values) {
+    kept_.push_front({key, std::move(values)});
+    std::size_t bytes = 0;
+    for (auto it = kept_.begin(); it != kept_.end(); ++it) {
+        bytes += it->values.size() * sizeof(double);
+        if (bytes > kKeptBytes && it != kept_.begin()) {
+            kept_.erase(it, kept_.end());
+            break;
+        }
+    }
+}
+
 Field Session::evaluate(const Grid& grid, EngineKind engine, const EvalOptions& options, EvalReport& report) {
     report = EvalReport{};
     report.engine = engine;
     report.grid = grid;
     const Model& m = *model_;
-    const std::vector<uint64_t> hashes = structural_hashes(m.graph, m.root);
-    std::vector<uint64_t> reachable;
-    for (ir::NodeId id : m.graph.reachable(m.root)) reachable.push_back(hashes[id]);
-    std::sort(reachable.begin(), reachable.end());
-    report.nodes = reachable.size();
-    for (uint64_t h : reachable)
-        report.unchanged_nodes += std::binary_search(last_node_hashes_.begin(), last_node_hashes_.end(), h);
-    last_node_hashes_ = reachable;
+    const ir::Graph& graph = m.graph;
+    const std::vector<uint64_t> hashes = structural_hashes(graph, m.root);
+    const uint64_t grid_and_precision = mix(grid_key(grid), static_cast<uint64_t>(options.precision));
+    auto key_of = [&](ir::NodeId id) { return mix(hashes[id], grid_and_precision); };
+    auto count_operations = [&](const std::vector<ir::NodeId>& nodes, const std::vector<char>* stop) {
+        std::size_t n = 0;
+        for (ir::NodeId id : nodes) n += !(stop && (*stop)[id]) && !(ir::op_flags(graph.node(id).op) & ir::kLeaf);
+        return n;
+    };
+    const std::vector<ir::NodeId> all = graph.reachable(m.root);
+    report.operations = count_operations(all, nullptr);
 
-    const uint64_t key = mix(hashes[m.root], grid_key(grid));
-    for (auto it = cache_.begin(); it != cache_.end(); ++it) {
-        if (it->key != key) continue;
-        cache_.splice(cache_.begin(), cache_, it);
+    Field field;
+    field.grid = grid;
+    if (const std::vector<double>* values = find_kept(key_of(m.root))) {
+        field.values = *values;
         report.reused = true;
-        return cache_.front().field;
+        return field;
     }
+
+    // Voxel engine: the definitions whose values are kept are read, not computed (the
+    // classic engine, by definition, saves nothing); those still computed are kept.
+    EvalOptions run = options;
+    std::vector<char> known(graph.size(), 0);
+    std::vector<std::pair<ir::NodeId, std::vector<double>>> fresh;
+    std::vector<ir::NodeId> computed = all;
+    if (engine == EngineKind::Voxel) {
+        std::vector<char> reachable(graph.size(), 0), listed(graph.size(), 0);
+        for (ir::NodeId id : all) reachable[id] = 1;
+        for (const auto& [name, node] : m.definitions) {
+            if (!reachable[node] || node == m.root || listed[node]) continue;
+            listed[node] = 1;
+            if (const std::vector<double>* values = find_kept(key_of(node))) {
+                run.known.emplace_back(node, values->data());
+                known[node] = 1;
+                report.reused_definitions.push_back(name);
+            }
+        }
+        computed = graph.reachable(std::span(&m.root, 1), &known);
+        std::vector<char> to_compute(graph.size(), 0);
+        for (ir::NodeId id : computed) to_compute[id] = !known[id];
+        // Kept: the last definition of each name (a FOR loop's redefinitions are one
+        // cell), latest first (they build on earlier ones), within a count and memory cap.
+        std::set<std::string> named;
+        std::size_t bytes = 0;
+        for (auto it = m.definitions.rbegin(); it != m.definitions.rend(); ++it) {
+            const auto& [name, node] = *it;
+            if (!named.insert(name).second || !to_compute[node] || node == m.root) continue;
+            to_compute[node] = 0;   // once, if two names define the same node
+            bytes += grid.points() * sizeof(double);
+            if (fresh.size() == kMaxKeptPerEvaluation || bytes > kKeptBytes / 2) break;
+            fresh.emplace_back(node, std::vector<double>(grid.points()));
+        }
+        for (auto& [node, values] : fresh) run.keep.emplace_back(node, values.data());
+    }
+    report.computed_operations = count_operations(computed, &known);
+
     const auto start = std::chrono::steady_clock::now();
-    Field field = evaluate_grid(m, grid, engine, options);
+    field = evaluate_grid(graph, m.root, grid, engine, run);
     report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (options.cancel && options.cancel->load()) {
         report.cancelled = true;
         return field;
     }
-    cache_.push_front({key, field});
-    if (cache_.size() > kCachedFields) cache_.pop_back();
+    for (auto& [node, values] : fresh) keep(key_of(node), std::move(values));
+    report.kept_definitions = fresh.size();
+    keep(key_of(m.root), field.values);
     return field;
 }
 

@@ -5,9 +5,11 @@
 // Why a script and not a live scope: FORTU's meaning is sequential (spec §2), and compile()
 // already checks and lowers a whole script in one pass with hash-consing, so re-lowering the
 // accumulated statements after each change is both exact and cheap (lowering is linear in the
-// text). What is expensive is evaluating grids; the session keeps the grid values of the
-// models it evaluated under the structural hash of their DAG, so an unchanged model (or one
-// changed back) is never evaluated twice, and it reports how many nodes a change left intact.
+// text). What is expensive is evaluating grids, so evaluation is incremental: the session
+// keeps the grid values of the model and of every definition it evaluated, under the
+// structural hash of their sub-DAG, and the voxel engine reads those values instead of
+// computing the definitions again (EvalOptions::known). After `CONSTANT R = 0.3` only what
+// depends on R is recomputed; an unchanged model (or one changed back) is not evaluated at all.
 #pragma once
 
 #include "grammar/diagnostic.hpp"
@@ -45,10 +47,12 @@ struct SubmitResult {
 
 /// How the last grid evaluation went, for `:time`.
 struct EvalReport {
-    bool reused = false;             ///< the values came from the cache, nothing was evaluated
-    bool cancelled = false;          ///< interrupted (the field is incomplete and not cached)
-    std::size_t nodes = 0;           ///< nodes reachable from the model's root
-    std::size_t unchanged_nodes = 0; ///< of which already in the previously evaluated model
+    bool reused = false;             ///< the model's values were kept from before: nothing was evaluated
+    bool cancelled = false;          ///< interrupted (the field is incomplete and nothing was kept)
+    std::size_t operations = 0;      ///< operations reachable from the model's root
+    std::size_t computed_operations = 0;  ///< of which evaluated this time
+    std::vector<std::string> reused_definitions;  ///< definitions whose kept values were read instead
+    std::size_t kept_definitions = 0;   ///< definitions whose values were kept for next time
     double seconds = 0.0;
     EngineKind engine = EngineKind::Voxel;
     Grid grid;
@@ -88,8 +92,8 @@ public:
     /// A grid over the same domain with `cols`×`rows` nodes (3D: the middle Z slice only).
     Grid grid_with_nodes(int cols, int rows) const;
 
-    /// Samples the model on `grid`, reusing cached values when the model's DAG and the grid
-    /// are unchanged. `report` says what was reused.
+    /// Samples the model on `grid`, reusing the kept values of the model, or (voxel engine)
+    /// of the definitions it uses, on this grid. `report` says what was reused.
     Field evaluate(const Grid& grid, EngineKind engine, const EvalOptions& options, EvalReport& report);
 
     /// A valid .fortu script of the session: domain and size as argument ranges and RECTBMP,
@@ -123,12 +127,14 @@ private:
     std::vector<int> size_;
     std::string section_ = "VARIABLE";   ///< the section in force for `name = expr`
 
-    struct CachedField {
-        uint64_t key = 0;
-        Field field;
+    /// Values of one node (a definition, or the model) on one grid, kept for reuse.
+    struct KeptValues {
+        uint64_t key = 0;            ///< structural hash of the node, the grid, the precision
+        std::vector<double> values;
     };
-    std::list<CachedField> cache_;              ///< most recent first, a few entries
-    std::vector<uint64_t> last_node_hashes_;    ///< sorted, of the last evaluated model
+    const std::vector<double>* find_kept(uint64_t key);
+    void keep(uint64_t key, std::vector<double> values);
+    std::list<KeptValues> kept_;     ///< most recently used first, at most kKeptBytes of values
 };
 
 /// The structural hash of every node reachable from `root` (indexed by node id; 0 for

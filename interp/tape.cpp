@@ -2,23 +2,40 @@
 #include "interp/tape.hpp"
 
 #include <algorithm>
+#include <stdexcept>
 
 namespace fortu {
 
-Tape compile_tape(const ir::Graph& graph, ir::NodeId root) {
+Tape compile_tape(const ir::Graph& graph, const TapeSpec& spec) {
     Tape tape;
-    const std::vector<ir::NodeId> order = graph.reachable(root);
+    constexpr uint32_t kNone = ~uint32_t{0};
+    // What each node is, if not computed here: an input (its index) or a uniform.
+    std::vector<uint32_t> input_index(graph.size(), kNone), uniform_index(graph.size(), kNone);
+    std::vector<char> stop(graph.size(), 0);
+    for (std::size_t i = 0; i < spec.inputs.size(); ++i) {
+        input_index[spec.inputs[i]] = static_cast<uint32_t>(i);
+        stop[spec.inputs[i]] = 1;
+    }
+    for (std::size_t i = 0; i < spec.uniforms.size(); ++i) {
+        uniform_index[spec.uniforms[i]] = static_cast<uint32_t>(i);
+        stop[spec.uniforms[i]] = 1;
+    }
+    for (ir::NodeId out : spec.outputs)
+        if (uniform_index[out] != kNone) throw std::logic_error("compile_tape: a uniform cannot be an output");
+    const std::vector<ir::NodeId> order = graph.reachable(spec.outputs, &stop);
     tape.node_count = order.size();
+    auto computed = [&](ir::NodeId id) {
+        return !stop[id] && !(ir::op_flags(graph.node(id).op) & ir::kLeaf);
+    };
 
-    // Last use of each node, as a position in `order` (the root lives to the end).
-    std::vector<std::size_t> position(graph.size(), 0);
-    for (std::size_t i = 0; i < order.size(); ++i) position[order[i]] = i;
+    // Last use of each node, as a position in `order` (outputs live to the end).
     std::vector<std::size_t> last_use(graph.size(), 0);
     for (std::size_t i = 0; i < order.size(); ++i) {
+        if (!computed(order[i])) continue;
         const ir::Node& n = graph.node(order[i]);
         for (int k = 0; k < ir::op_arity(n.op); ++k) last_use[n.args[k]] = i;
     }
-    last_use[root] = order.size();
+    for (ir::NodeId out : spec.outputs) last_use[out] = order.size();
 
     std::vector<uint32_t> slot(graph.size(), 0);
     std::vector<uint32_t> free_slots;
@@ -31,11 +48,16 @@ Tape compile_tape(const ir::Graph& graph, ir::NodeId root) {
         return s;
     };
 
-    // Arguments get permanent slots, filled per tile; constants are immediates of the
-    // instructions that read them, and need a slot only as the root (a constant model).
+    // Arguments and inputs get permanent slots, filled per tile; constants are immediates
+    // of the instructions that read them, and need a slot only as an output.
     for (ir::NodeId id : order) {
         const ir::Node& n = graph.node(id);
-        if (n.op == ir::Op::Const && id == root) {
+        if (input_index[id] != kNone) {
+            slot[id] = next_slot++;
+            tape.inputs.emplace_back(slot[id], input_index[id]);
+        } else if (uniform_index[id] != kNone) {
+            continue;
+        } else if (n.op == ir::Op::Const && last_use[id] == order.size()) {
             slot[id] = next_slot++;
             tape.constants.emplace_back(slot[id], n.imm);
         } else if (n.op == ir::Op::Arg) {
@@ -46,16 +68,19 @@ Tape compile_tape(const ir::Graph& graph, ir::NodeId root) {
 
     for (std::size_t i = 0; i < order.size(); ++i) {
         const ir::NodeId id = order[i];
+        if (!computed(id)) continue;
         const ir::Node& n = graph.node(id);
-        if (ir::op_flags(n.op) & ir::kLeaf) continue;
         Instruction ins{n.op, 0, 0, {tape.zero_slot, tape.zero_slot, tape.zero_slot}, n.imm, {0.0, 0.0, 0.0}};
         const int arity = ir::op_arity(n.op);
         for (int k = 0; k < arity; ++k) {
-            ins.in[k] = slot[n.args[k]];
-            if (graph.node(n.args[k]).op == ir::Op::Const) {
+            const ir::NodeId a = n.args[k];
+            ins.in[k] = slot[a];
+            if (graph.node(a).op == ir::Op::Const || uniform_index[a] != kNone) {
                 ins.constant_operands |= static_cast<uint8_t>(1u << k);
-                ins.constant[k] = graph.node(n.args[k]).imm;
+                ins.constant[k] = graph.node(a).imm;
                 ins.in[k] = tape.zero_slot;
+                if (uniform_index[a] != kNone)
+                    tape.uniform_uses.push_back({static_cast<uint32_t>(tape.code.size()), static_cast<uint32_t>(k), uniform_index[a]});
             }
         }
         // The result gets its slot before the operands that die here are freed, so it never
@@ -64,14 +89,14 @@ Tape compile_tape(const ir::Graph& graph, ir::NodeId root) {
         slot[id] = allocate();
         for (int k = 0; k < arity; ++k) {
             const ir::NodeId a = n.args[k];
-            const bool leaf = ir::op_flags(graph.node(a).op) & ir::kLeaf;
             const bool seen_before = std::find(n.args.begin(), n.args.begin() + k, a) != n.args.begin() + k;
-            if (!leaf && !seen_before && last_use[a] == i) free_slots.push_back(slot[a]);
+            if (computed(a) && !seen_before && last_use[a] == i) free_slots.push_back(slot[a]);
         }
         ins.out = slot[id];
         tape.code.push_back(ins);
     }
-    tape.root_slot = slot[root];
+    for (ir::NodeId out : spec.outputs) tape.outputs.push_back(slot[out]);
+    tape.root_slot = tape.outputs.empty() ? tape.zero_slot : tape.outputs[0];
     tape.slot_count = next_slot;
     return tape;
 }

@@ -5,6 +5,12 @@
 // topological order and giving each value a slot that is reused after its last use keeps
 // only the live values (prospero.vm: ~160 slots for 7866 nodes), and a slot holds one tile
 // of points, so memory is slots × tile and fits in cache (performance-notes.md idea 1).
+//
+// A tape may have several outputs (the REPL keeps the values of its definitions), and
+// nodes whose values come from outside instead of being computed: `inputs`, a lane array
+// per tile (values kept from an earlier run, or computed once per grid column), and
+// `uniforms`, one value per tile patched into the instructions as an immediate (computed
+// once per grid row). Their operands are not on the tape unless reached another way.
 #pragma once
 
 #include "interp/ir/ir.hpp"
@@ -26,16 +32,34 @@ struct Instruction {
     double constant[ir::kMaxArity] = {0.0, 0.0, 0.0};
 };
 
-struct Tape {
-    std::vector<Instruction> code;     ///< non-leaf nodes in topological order
-    uint32_t slot_count = 0;           ///< includes the constant and argument slots
-    std::vector<std::pair<uint32_t, double>> constants;  ///< slot, value (filled once): only a constant root
-    std::vector<std::pair<uint32_t, int>> arguments;     ///< slot, axis (filled per tile)
-    uint32_t zero_slot = 0;            ///< all zeros: the unused operands read it
-    uint32_t root_slot = 0;
-    std::size_t node_count = 0;        ///< nodes reachable from the root
+struct TapeSpec {
+    std::vector<ir::NodeId> outputs;    ///< computed and kept to the end; [0] is the model's root
+    std::vector<ir::NodeId> inputs;     ///< supplied per tile as lane arrays
+    std::vector<ir::NodeId> uniforms;   ///< supplied per tile as one value (never an output)
 };
 
-Tape compile_tape(const ir::Graph& graph, ir::NodeId root);
+/// An instruction operand that reads a uniform: the engine writes the tile's value of
+/// `uniforms[uniform]` into `code[instruction].constant[operand]`.
+struct UniformUse {
+    uint32_t instruction;
+    uint32_t operand;
+    uint32_t uniform;
+};
+
+struct Tape {
+    std::vector<Instruction> code;     ///< non-leaf nodes in topological order
+    uint32_t slot_count = 0;           ///< includes the argument and input slots
+    std::vector<std::pair<uint32_t, double>> constants;  ///< slot, value (filled once): only a constant output
+    std::vector<std::pair<uint32_t, int>> arguments;     ///< slot, axis (filled per tile)
+    std::vector<std::pair<uint32_t, std::size_t>> inputs; ///< slot, index in TapeSpec::inputs (those reached)
+    std::vector<UniformUse> uniform_uses;
+    std::vector<uint32_t> outputs;     ///< slot of each TapeSpec::outputs entry
+    uint32_t zero_slot = 0;            ///< all zeros: the unused operands read it
+    uint32_t root_slot = 0;            ///< outputs[0]
+    std::size_t node_count = 0;        ///< nodes reachable from the outputs (inputs and uniforms included)
+};
+
+Tape compile_tape(const ir::Graph& graph, const TapeSpec& spec);
+inline Tape compile_tape(const ir::Graph& graph, ir::NodeId root) { return compile_tape(graph, TapeSpec{{root}, {}, {}}); }
 
 }  // namespace fortu

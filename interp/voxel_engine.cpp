@@ -1,6 +1,8 @@
-// interp/voxel_engine.cpp — the tape evaluated tile by tile, each node once per point.
+// interp/voxel_engine.cpp — the tape evaluated tile by tile, each node once per point (or,
+// hoisted, once per grid column or row).
 #include "interp/voxel_engine.hpp"
 
+#include "interp/hoist.hpp"
 #include "interp/ir/kernels.hpp"
 #include "interp/parallel.hpp"
 
@@ -12,26 +14,28 @@ namespace {
 
 using namespace ir;  // kernel names are used unqualified inside ops.def expressions
 
-/// Runs the tape over kLanes points whose argument slots are already filled (a fixed
-/// count, so the loops compile without remainder handling). The switch
-/// is outside the lane loop, so each case is a tight loop the compiler vectorises; an
-/// operand that is a constant is read from a register, one loop per combination that
-/// occurs after constant folding (none, the first or the second operand constant).
-template <class T, int kLanes>
-void run_tape(const Tape& tape, T* slots) {
-    for (const Instruction& ins : tape.code) {
-        T* __restrict out = slots + static_cast<std::size_t>(ins.out) * kLanes;
-        const T* __restrict A = slots + static_cast<std::size_t>(ins.in[0]) * kLanes;
-        const T* __restrict B = slots + static_cast<std::size_t>(ins.in[1]) * kLanes;
-        const T* __restrict C = slots + static_cast<std::size_t>(ins.in[2]) * kLanes;
-        [[maybe_unused]] const double imm = ins.imm;
-        [[maybe_unused]] const T ka = T(ins.constant[0]);
-        [[maybe_unused]] const T kb = T(ins.constant[1]);
-        [[maybe_unused]] const T kc = T(ins.constant[2]);
-        const unsigned mask = ins.constant_operands;
-        switch (ins.op) {
+/// Runs `code` over `lanes` points whose argument and input slots are filled; slots[s] is
+/// slot s's lane array. The switch is outside the lane loop, so each case is a tight loop
+/// the compiler vectorises (with kFixedLanes > 0 a fixed count, without remainder
+/// handling); an operand that is a constant is read from a register, one loop per
+/// combination that occurs after constant folding (none, the first or the second operand
+/// constant).
+template <class T, int kFixedLanes>
+void run_code(const Instruction* code, std::size_t count, T* const* slots, int runtime_lanes) {
+    const int lanes = kFixedLanes > 0 ? kFixedLanes : runtime_lanes;
+    for (const Instruction* ins = code; ins != code + count; ++ins) {
+        T* __restrict out = slots[ins->out];
+        const T* __restrict A = slots[ins->in[0]];
+        const T* __restrict B = slots[ins->in[1]];
+        const T* __restrict C = slots[ins->in[2]];
+        [[maybe_unused]] const double imm = ins->imm;
+        [[maybe_unused]] const T ka = T(ins->constant[0]);
+        [[maybe_unused]] const T kb = T(ins->constant[1]);
+        [[maybe_unused]] const T kc = T(ins->constant[2]);
+        const unsigned mask = ins->constant_operands;
+        switch (ins->op) {
 #define FORTU_LANES(expr, a_value, b_value, c_value)                       \
-    for (int l = 0; l < kLanes; ++l) {                                     \
+    for (int l = 0; l < lanes; ++l) {                                      \
         [[maybe_unused]] const T a = (a_value);                            \
         [[maybe_unused]] const T b = (b_value);                            \
         [[maybe_unused]] const T c = (c_value);                            \
@@ -53,61 +57,225 @@ void run_tape(const Tape& tape, T* slots) {
     }
 }
 
-/// The grid in tiles of kTileSize points, each tile's slots in the number type T.
 template <class T>
-void evaluate_tiles(const Tape& tape, Field& field, const EvalOptions& options) {
-    const Grid& grid = field.grid;
-    const std::size_t points = grid.points();
-    const std::size_t tiles = (points + kTileSize - 1) / kTileSize;
-    const std::size_t plane = static_cast<std::size_t>(grid.cols()) * grid.rows();
+void run_code(const std::vector<Instruction>& code, T* const* slots, int lanes) {
+    if (lanes == kTileSize) run_code<T, kTileSize>(code.data(), code.size(), slots, lanes);
+    else run_code<T, 0>(code.data(), code.size(), slots, lanes);
+}
 
-    // One slot buffer per worker, allocated before the loop and reused for all its tiles
-    // (nothing is allocated per tile); constants are filled once.
-    std::vector<std::vector<T>> workspaces(worker_count(tiles, options));
-    for (std::vector<T>& slots : workspaces) {
-        slots.assign(static_cast<std::size_t>(tape.slot_count) * kTileSize, T(0));
-        for (auto [slot, value] : tape.constants)
-            std::fill_n(slots.begin() + static_cast<std::ptrdiff_t>(slot) * kTileSize, kTileSize, T(value));
+/// A run of consecutive grid points evaluated together.
+struct Tile {
+    std::size_t first_point = 0;
+    int lanes = 0;
+    int first_col = 0;       ///< row tiling: the tile's first column
+    std::size_t row = 0;     ///< row tiling: the tile's row (over all slices)
+};
+
+/// How a grid is cut into tiles: flat (kTileSize consecutive points, rows ignored) or by
+/// rows (each tile inside one row, as column and row values need; a long row is cut into
+/// equal pieces, a multiple of 16 lanes wide, so no tile is mostly padding).
+struct Tiling {
+    std::size_t points = 0;
+    int cols = 1;
+    int width = 0;           ///< row tiling: lanes per tile; 0: flat
+    int tiles_per_row = 1;
+
+    static Tiling flat(std::size_t points) { return Tiling{points, 1, 0, 1}; }
+    static Tiling by_rows(const Grid& grid) {
+        Tiling t{grid.points(), grid.cols(), 0, 1};
+        const int pieces = (t.cols + kTileSize - 1) / kTileSize;
+        t.width = std::min(kTileSize, ((t.cols + pieces - 1) / pieces + 15) / 16 * 16);
+        t.tiles_per_row = (t.cols + t.width - 1) / t.width;
+        return t;
+    }
+    std::size_t count() const {
+        if (width == 0) return (points + kTileSize - 1) / kTileSize;
+        return points / static_cast<std::size_t>(cols) * tiles_per_row;
+    }
+    Tile tile(std::size_t i) const {
+        if (width == 0) {
+            const std::size_t first = i * kTileSize;
+            return Tile{first, static_cast<int>(std::min<std::size_t>(kTileSize, points - first)), 0, 0};
+        }
+        Tile t;
+        t.row = i / tiles_per_row;
+        t.first_col = static_cast<int>(i % tiles_per_row) * width;
+        t.lanes = std::min(width, cols - t.first_col);
+        t.first_point = t.row * cols + t.first_col;
+        return t;
+    }
+};
+
+/// Where a tape's input values come from: values of every grid point (read per tile,
+/// converted to T), or T values per column (read in place).
+template <class T>
+struct InputSource {
+    const double* per_point = nullptr;
+    const T* per_column = nullptr;
+};
+
+/// Where a tape's output values go, one per point: as doubles (the field, kept nodes) or
+/// as T (the column and row values of hoisted nodes, read by the per-point tape).
+template <class T>
+struct OutputSink {
+    double* as_double = nullptr;
+    T* as_t = nullptr;
+};
+
+template <class T>
+struct Pass {
+    const Tape& tape;
+    const Grid& grid;                       ///< coordinates of the points (argument slots)
+    std::vector<InputSource<T>> inputs;     ///< by TapeSpec::inputs index
+    std::vector<const T*> uniforms;         ///< by TapeSpec::uniforms index: one value per row
+    std::vector<OutputSink<T>> outputs;     ///< by TapeSpec::outputs index
+};
+
+/// One worker's tile memory, allocated before the loop and reused for all its tiles
+/// (nothing is allocated per tile).
+template <class T>
+struct Workspace {
+    std::vector<T> storage;            ///< kTileSize lanes per slot
+    std::vector<T*> slots;             ///< each slot's lane array for the current tile
+    std::vector<Instruction> code;     ///< with the current row's uniform values patched in
+    std::size_t patched_row = ~std::size_t{0};
+};
+
+template <class T>
+void run_pass(const Pass<T>& pass, const Tiling& tiling, const EvalOptions& options) {
+    const Tape& tape = pass.tape;
+    const Grid& grid = pass.grid;
+    const std::size_t plane = static_cast<std::size_t>(grid.cols()) * grid.rows();
+    const std::size_t tiles = tiling.count();
+
+    std::vector<Workspace<T>> workspaces(worker_count(tiles, options));
+    for (Workspace<T>& ws : workspaces) {
+        ws.storage.assign(static_cast<std::size_t>(tape.slot_count) * kTileSize, T(0));
+        ws.slots.resize(tape.slot_count);
+        for (uint32_t s = 0; s < tape.slot_count; ++s) ws.slots[s] = ws.storage.data() + static_cast<std::size_t>(s) * kTileSize;
+        for (auto [slot, value] : tape.constants) std::fill_n(ws.slots[slot], kTileSize, T(value));
+        if (!tape.uniform_uses.empty()) ws.code = tape.code;
     }
 
-    parallel_for(tiles, options, [&](std::size_t tile, int worker) {
-        T* slots = workspaces[worker].data();
-        const std::size_t start = tile * kTileSize;
-        const int lanes = static_cast<int>(std::min<std::size_t>(kTileSize, points - start));
+    parallel_for(tiles, options, [&](std::size_t index, int worker) {
+        Workspace<T>& ws = workspaces[worker];
+        const Tile tile = tiling.tile(index);
         for (auto [slot, axis] : tape.arguments) {
-            T* lane_values = slots + static_cast<std::size_t>(slot) * kTileSize;
-            // A partial last tile repeats its last point in the unused lanes.
-            for (int l = 0; l < kTileSize; ++l) {
-                const std::size_t p = start + std::min(l, lanes - 1);
+            T* lane_values = ws.slots[slot];
+            for (int l = 0; l < tile.lanes; ++l) {
+                const std::size_t p = tile.first_point + l;
                 lane_values[l] = T(axis == 0 ? grid.x_at(static_cast<int>(p % grid.cols()))
                                  : axis == 1 ? grid.y_at(static_cast<int>((p / grid.cols()) % grid.rows()))
                                              : grid.z_at(static_cast<int>(p / plane)));
             }
         }
-        run_tape<T, kTileSize>(tape, slots);
-        const T* result = slots + static_cast<std::size_t>(tape.root_slot) * kTileSize;
-        double* out = field.values.data() + start;
-        for (int l = 0; l < lanes; ++l) out[l] = double(result[l]);
-        return static_cast<std::size_t>(lanes);
+        for (auto [slot, which] : tape.inputs) {
+            const InputSource<T>& source = pass.inputs[which];
+            if (source.per_column) {
+                ws.slots[slot] = const_cast<T*>(source.per_column + tile.first_col);
+            } else {
+                T* lane_values = ws.storage.data() + static_cast<std::size_t>(slot) * kTileSize;
+                for (int l = 0; l < tile.lanes; ++l) lane_values[l] = T(source.per_point[tile.first_point + l]);
+            }
+        }
+        if (!tape.uniform_uses.empty() && tile.row != ws.patched_row) {
+            for (const UniformUse& use : tape.uniform_uses)
+                ws.code[use.instruction].constant[use.operand] = double(pass.uniforms[use.uniform][tile.row]);
+            ws.patched_row = tile.row;
+        }
+        run_code<T>(tape.uniform_uses.empty() ? tape.code : ws.code, ws.slots.data(), tile.lanes);
+        for (std::size_t k = 0; k < pass.outputs.size(); ++k) {
+            const T* values = ws.slots[tape.outputs[k]];
+            const OutputSink<T>& sink = pass.outputs[k];
+            if (sink.as_double) std::copy_n(values, tile.lanes, sink.as_double + tile.first_point);
+            else std::copy_n(values, tile.lanes, sink.as_t + tile.first_point);
+        }
+        return static_cast<std::size_t>(tile.lanes);
     });
+}
+
+/// The values of `nodes` at every point of `grid` (a grid of columns or of rows), as T.
+template <class T>
+std::vector<std::vector<T>> evaluate_nodes(const Graph& graph, const std::vector<NodeId>& nodes, const Grid& grid,
+                                           const EvalOptions& options) {
+    std::vector<std::vector<T>> values(nodes.size(), std::vector<T>(grid.points()));
+    if (nodes.empty()) return values;
+    const Tape tape = compile_tape(graph, TapeSpec{nodes, {}, {}});
+    Pass<T> pass{tape, grid, {}, {}, {}};
+    for (std::vector<T>& v : values) pass.outputs.push_back({nullptr, v.data()});
+    EvalOptions quiet = options;
+    quiet.progress = nullptr;
+    run_pass(pass, Tiling::flat(grid.points()), quiet);
+    return values;
+}
+
+/// Rows narrower than this are evaluated in flat tiles, without hoisting: a tile per row
+/// would leave most of each vector loop's length unused.
+constexpr int kMinRowTileLanes = 64;
+/// Memory for the values of hoisted nodes, per kind (column, row): past it that kind is
+/// not hoisted (e.g. thousands of Y-only nodes on a 512³ grid's 262,144 rows).
+constexpr std::size_t kMaxHoistedBytes = std::size_t{64} << 20;
+
+template <class T>
+void evaluate(const Graph& graph, NodeId root, Field& field, const EvalOptions& options) {
+    const Grid& grid = field.grid;
+    TapeSpec spec{{root}, {}, {}};
+    std::vector<OutputSink<T>> outputs{{field.values.data(), nullptr}};
+    for (auto [node, values] : options.keep) {
+        spec.outputs.push_back(node);
+        outputs.push_back({values, nullptr});
+    }
+    std::vector<InputSource<T>> inputs;
+    for (auto [node, values] : options.known) {
+        spec.inputs.push_back(node);
+        inputs.push_back({values, nullptr});
+    }
+
+    Tiling tiling = Tiling::flat(grid.points());
+    std::vector<std::vector<T>> column_values, row_values;
+    std::vector<const T*> uniforms;
+    if (options.hoist && grid.cols() >= kMinRowTileLanes) {
+        HoistPlan plan = plan_hoisting(graph, spec.outputs, spec.inputs);
+        const std::size_t row_count = grid.points() / grid.cols();
+        const bool columns_fit = plan.column_nodes.size() * grid.cols() * sizeof(T) <= kMaxHoistedBytes;
+        const bool rows_fit = plan.row_nodes.size() * row_count * sizeof(T) <= kMaxHoistedBytes;
+        if (!columns_fit || !rows_fit) plan = plan_hoisting(graph, spec.outputs, spec.inputs, columns_fit, rows_fit);
+        Grid columns = grid;   // one row: the X of each column
+        columns.dims = 2;
+        columns.y.nodes = columns.z.nodes = 1;
+        Grid rows = grid;      // one column: the Y (and Z) of each row
+        rows.x.nodes = 1;
+        column_values = evaluate_nodes<T>(graph, plan.column_nodes, columns, options);
+        row_values = evaluate_nodes<T>(graph, plan.row_nodes, rows, options);
+        for (std::size_t k = 0; k < plan.column_nodes.size(); ++k) {
+            spec.inputs.push_back(plan.column_nodes[k]);
+            inputs.push_back({nullptr, column_values[k].data()});
+        }
+        spec.uniforms = plan.row_nodes;
+        for (const std::vector<T>& v : row_values) uniforms.push_back(v.data());
+        tiling = Tiling::by_rows(grid);
+    }
+    const Tape tape = compile_tape(graph, spec);
+    run_pass(Pass<T>{tape, grid, std::move(inputs), std::move(uniforms), std::move(outputs)}, tiling, options);
 }
 
 }  // namespace
 
 void voxel_evaluate_grid(const ir::Graph& graph, ir::NodeId root, Field& field, const EvalOptions& options) {
-    const Tape tape = compile_tape(graph, root);
-    if (options.precision == Precision::Float32) evaluate_tiles<float>(tape, field, options);
-    else evaluate_tiles<double>(tape, field, options);
+    if (options.precision == Precision::Float32) evaluate<float>(graph, root, field, options);
+    else evaluate<double>(graph, root, field, options);
 }
 
 PointEvaluator::PointEvaluator(const ir::Graph& graph, ir::NodeId root) : tape_(compile_tape(graph, root)) {}
 
 PointValue PointEvaluator::operator()(std::array<double, 3> point) const {
-    std::vector<Dual> slots(tape_.slot_count, Dual(0.0));
-    for (auto [slot, value] : tape_.constants) slots[slot] = Dual(value);
-    for (auto [slot, axis] : tape_.arguments) slots[slot] = Dual::variable(point[axis], axis);
-    run_tape<Dual, 1>(tape_, slots.data());
-    const Dual& r = slots[tape_.root_slot];
+    std::vector<Dual> values(tape_.slot_count, Dual(0.0));
+    std::vector<Dual*> slots(tape_.slot_count);
+    for (uint32_t s = 0; s < tape_.slot_count; ++s) slots[s] = &values[s];
+    for (auto [slot, value] : tape_.constants) values[slot] = Dual(value);
+    for (auto [slot, axis] : tape_.arguments) values[slot] = Dual::variable(point[axis], axis);
+    run_code<Dual, 1>(tape_.code.data(), tape_.code.size(), slots.data(), 1);
+    const Dual& r = values[tape_.root_slot];
     return PointValue{r.v, {r.d[0], r.d[1], r.d[2]}};
 }
 

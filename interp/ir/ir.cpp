@@ -94,16 +94,21 @@ NodeId Graph::make(Op op, std::span<const NodeId> args, double imm) {
     return it->second;
 }
 
-std::vector<NodeId> Graph::reachable(NodeId root) const {
+std::vector<NodeId> Graph::reachable(std::span<const NodeId> roots, const std::vector<char>* stop) const {
     std::vector<char> seen(nodes_.size(), 0);
-    seen[root] = 1;
-    for (NodeId id = root + 1; id-- > 0;) {
-        if (!seen[id]) continue;
+    NodeId last = 0;
+    for (NodeId root : roots) {
+        seen[root] = 1;
+        last = std::max(last, root);
+    }
+    if (roots.empty()) return {};
+    for (NodeId id = last + 1; id-- > 0;) {
+        if (!seen[id] || (stop && (*stop)[id])) continue;
         const Node& n = nodes_[id];
         for (int i = 0; i < op_arity(n.op); ++i) seen[n.args[i]] = 1;
     }
     std::vector<NodeId> order;
-    for (NodeId id = 0; id <= root; ++id)
+    for (NodeId id = 0; id <= last; ++id)
         if (seen[id]) order.push_back(id);
     return order;
 }

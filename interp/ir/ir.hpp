@@ -67,7 +67,10 @@ public:
     /// Times make() returned an existing node instead of a new one (sharing by hash-consing).
     std::size_t reuse_count() const { return reuse_count_; }
     /// Ids of the nodes reachable from `root`, in topological (id) order.
-    std::vector<NodeId> reachable(NodeId root) const;
+    std::vector<NodeId> reachable(NodeId root) const { return reachable(std::span(&root, 1)); }
+    /// The same for several roots, not looking past the nodes marked in `stop` (indexed by
+    /// id; they are listed but their operands are not visited unless reached another way).
+    std::vector<NodeId> reachable(std::span<const NodeId> roots, const std::vector<char>* stop = nullptr) const;
 
 private:
     struct Key {

@@ -96,6 +96,38 @@ TEST_CASE("a scripted session: built in steps, probed, changed, saved; fortu run
                        "inside: yes\n");
 }
 
+TEST_CASE(":time says what the last evaluation computed and which definitions' values it reused") {
+    SessionDir d;
+    const auto r = d.repl(
+        "ARGUMENT X, Y\n"
+        "CONSTANT R = 0.5\n"
+        "VARIABLE D = R - SQRT(X^2 + Y^2)\n"
+        "VARIABLE B = 0.3 - ABS(X - 0.5)\n"
+        "RETURN D | B\n"
+        ":size 64 48\n"
+        ":render a.png\n"
+        "R = 0.3\n"
+        ":render b.png\n"
+        ":time\n"
+        "R = 0.5\n"
+        ":render c.png\n"
+        ":time\n");
+    CHECK(r.status == 0);
+    // Times vary; everything else is exact. D uses R: its 5 operations and the | are
+    // computed again, B's 3 are read.
+    std::istringstream lines(r.out);
+    std::vector<std::string> last;
+    for (std::string line; std::getline(lines, line);)
+        if (line.rfind("last evaluation: ", 0) == 0) last.push_back(line);
+    REQUIRE(last.size() == 2);
+    CHECK(last[0].rfind("last evaluation: voxel engine, 64x48 points; computed 6 of 9 operations in ", 0) == 0);
+    CHECK(last[0].find(" s; reused the kept values of 1 definition (B); kept the values of 1 definition for next time") !=
+          std::string::npos);
+    CHECK(last[1] == "last evaluation: voxel engine, 64x48 points; reused: the values of this model on this grid "
+                     "were kept, nothing was evaluated");
+    CHECK(pixels((d.path / "a.png").string()) == pixels((d.path / "c.png").string()));
+}
+
 TEST_CASE("errors are file diagnostics of the typed line and the session goes on") {
     SessionDir d;
     const auto r = d.repl(

@@ -74,24 +74,69 @@ TEST_CASE("grid values are reused when the model's DAG and the grid are unchange
     EvalReport report;
     const Field first = s.evaluate(grid, EngineKind::Voxel, {}, report);
     CHECK_FALSE(report.reused);
-    CHECK(report.unchanged_nodes == 0);
-    const std::size_t nodes = report.nodes;
+    CHECK(report.computed_operations == report.operations);
     // An unrelated definition does not change the model's DAG: nothing is evaluated.
     s.submit("CONSTANT UNUSED = 7", "<input>");
     CHECK(s.evaluate(grid, EngineKind::Classic, {}, report).values == first.values);
     CHECK(report.reused);
-    // A new radius changes the constant and the two subtractions above it; X², Y², X and Y
-    // are unchanged.
+    CHECK(report.computed_operations == 0);
     s.submit("R = 0.75", "<input>");
     const Field second = s.evaluate(grid, EngineKind::Voxel, {}, report);
     CHECK_FALSE(report.reused);
-    CHECK(report.nodes == nodes);
-    CHECK(report.unchanged_nodes == nodes - 3);
     CHECK(second.values[12] == 0.75);
-    // Changed back: the earlier values come from the cache.
+    // Changed back: the earlier values are still kept.
     s.submit("R = 0.5", "<input>");
     CHECK(s.evaluate(grid, EngineKind::Voxel, {}, report).values == first.values);
     CHECK(report.reused);
+    // Another grid is another set of values.
+    s.set_size({6});
+    s.evaluate(s.grid(), EngineKind::Voxel, {}, report);
+    CHECK_FALSE(report.reused);
+}
+
+TEST_CASE("after a change only what depends on it is computed; the rest is read from kept values") {
+    Session s({});
+    s.submit("ARGUMENT X(-2, 2), Y(-2, 2)\n"
+             "VARIABLE D = SQRT(X*X + Y*Y)\n"
+             "VARIABLE W = SIN(X * 3) * COS(Y * 5) + 0.1 * SIN(X * Y)\n"
+             "CONSTANT R = 1\n"
+             "VARIABLE S = (R - D) & W\n"
+             "RETURN S", "<input>");
+    for (int size : {80, 20}) {   // row tiles with hoisting, and flat tiles
+        CAPTURE(size);
+        s.set_size({size});
+        s.submit("R = 1", "<input>");
+        const Grid grid = s.grid();
+        EvalReport report;
+        s.evaluate(grid, EngineKind::Voxel, {}, report);
+        CHECK(report.computed_operations == report.operations);
+        CHECK(report.reused_definitions.empty());
+        CHECK(report.kept_definitions == 2);   // D and W (S is the model: kept as such)
+
+        // A new radius: D and W are read, only R - D and the & are computed.
+        s.submit("R = 0.6", "<input>");
+        const Field incremental = s.evaluate(grid, EngineKind::Voxel, {}, report);
+        CHECK(report.computed_operations == 2);
+        CHECK(report.reused_definitions == std::vector<std::string>{"D", "W"});
+        CHECK(report.kept_definitions == 0);
+        CHECK(incremental.values == evaluate_grid(s.model(), grid, EngineKind::Voxel).values);
+        CHECK(incremental.values == evaluate_grid(s.model(), grid, EngineKind::Classic).values);
+
+        // A new D: W is still read; D is computed again, and kept.
+        s.submit("D = SQRT(X*X + Y*Y) - 0.2 * COS(3 * X)", "<input>");
+        const Field redefined = s.evaluate(grid, EngineKind::Voxel, {}, report);
+        CHECK(report.reused_definitions == std::vector<std::string>{"W"});
+        CHECK(report.kept_definitions == 1);
+        CHECK(report.computed_operations < report.operations);
+        CHECK(redefined.values == evaluate_grid(s.model(), grid, EngineKind::Classic).values);
+        s.submit("D = SQRT(X*X + Y*Y)", "<input>");
+    }
+    // The classic engine saves nothing: it computes everything, reads nothing.
+    s.submit("R = 0.7", "<input>");
+    EvalReport report;
+    s.evaluate(s.grid(), EngineKind::Classic, {}, report);
+    CHECK(report.computed_operations == report.operations);
+    CHECK(report.reused_definitions.empty());
 }
 
 TEST_CASE("structural hashes are equal for equal expressions in different graphs") {
@@ -101,4 +146,18 @@ TEST_CASE("structural hashes are equal for equal expressions in different graphs
     const auto hash = [](const test::Compiled& m) { return structural_hashes(m.model->graph, m.model->root)[m.model->root]; };
     CHECK(hash(a) == hash(b));
     CHECK(hash(a) != hash(c));
+}
+
+TEST_CASE("a FOR loop's redefinitions are one kept cell, not one per step") {
+    Session s({});
+    s.submit("ARGUMENT X, Y\nVARIABLE D = 0\nFOR I = 1, 200\nD = D | (0.01 - SQRT((X - I/100)^2 + Y^2))\nEND FOR\n"
+             "VARIABLE E = D & (0.5 - ABS(Y))\nRETURN E", "<input>");
+    s.set_size({70});
+    EvalReport report;
+    s.evaluate(s.grid(), EngineKind::Voxel, {}, report);
+    CHECK(report.kept_definitions == 1);   // the last D
+    s.submit("E = D & (0.4 - ABS(Y))", "<input>");
+    s.evaluate(s.grid(), EngineKind::Voxel, {}, report);
+    CHECK(report.reused_definitions == std::vector<std::string>{"D"});
+    CHECK(report.computed_operations == 3);   // ABS(Y), 0.4 - ABS(Y) and the &: nothing of D
 }

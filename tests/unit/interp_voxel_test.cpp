@@ -3,12 +3,15 @@
 // give identical values.
 #include "interp_test_support.hpp"
 
+#include "interp/hoist.hpp"
+#include "interp/tape.hpp"
 #include "interp/vm_import.hpp"
 
 #include <doctest/doctest.h>
 
 #include <cmath>
 #include <filesystem>
+#include <stdexcept>
 
 using namespace fortu;
 
@@ -90,4 +93,81 @@ TEST_CASE("float32 beyond its range: bear.vm differs only at 6 corner points of 
     for (std::size_t i = 0; i < exact.values.size(); ++i)
         beyond += std::fabs(exact.values[i] - fast.values[i]) > 1e-5 * 3.1425574031298424;
     CHECK(beyond == 6);
+}
+
+TEST_CASE("hoisting X-only and row-only sub-expressions changes no value, in either precision") {
+    // prospero.vm on 100 columns (one tile per row), 1030 (three 352-lane pieces) and 40
+    // (flat tiles, nothing hoisted); tanglecube.vm in 3D (rows over two axes).
+    struct Case { const char* name; int dims, cols, rows; };
+    for (const Case c : {Case{"prospero.vm", 2, 100, 37}, Case{"prospero.vm", 2, 1030, 3}, Case{"prospero.vm", 2, 40, 40},
+                         Case{"tanglecube.vm", 3, 70, 9}}) {
+        CAPTURE(c.name);
+        CAPTURE(c.cols);
+        const Model model = load_vm(c.name);
+        Grid grid = square_grid(c.dims, c.rows);
+        grid.x.nodes = c.cols;
+        for (Precision precision : {Precision::Float64, Precision::Float32}) {
+            EvalOptions hoisted, plain;
+            hoisted.precision = plain.precision = precision;
+            plain.hoist = false;
+            const Field a = evaluate_grid(model, grid, EngineKind::Voxel, hoisted);
+            const Field b = evaluate_grid(model, grid, EngineKind::Voxel, plain);
+            CHECK(a.values == b.values);
+            if (precision == Precision::Float64)
+                CHECK(a.values == evaluate_grid(model, grid, EngineKind::Classic).values);
+        }
+    }
+}
+
+TEST_CASE("the hoisting plan: X-only nodes per column, nodes without X per row, outputs never") {
+    auto c = test::compile_text("ARGUMENT X, Y\nRETURN SIN(X * 2) * COS(Y * 3) + SQRT(Y * Y + 1)");
+    REQUIRE(c.model);
+    const Model& m = *c.model;
+    const HoistPlan plan = plan_hoisting(m.graph, {m.root}, {});
+    // X*2, SIN | Y*3, COS, Y*Y, +1, SQRT: 7 operations out of the per-point tape, which
+    // keeps the product and the sum.
+    CHECK(plan.hoisted_operations == 7);
+    REQUIRE(plan.column_nodes.size() == 1);
+    CHECK(m.graph.node(plan.column_nodes[0]).op == ir::Op::Sin);
+    REQUIRE(plan.row_nodes.size() == 2);
+    CHECK(m.graph.node(plan.row_nodes[0]).op == ir::Op::Cos);
+    CHECK(m.graph.node(plan.row_nodes[1]).op == ir::Op::Sqrt);
+    const Tape tape = compile_tape(m.graph, TapeSpec{{m.root}, plan.column_nodes, plan.row_nodes});
+    CHECK(tape.code.size() == 2);
+    CHECK(tape.uniform_uses.size() == 2);
+    // The model itself is never hoisted, even when it has no X.
+    auto y_only = test::compile_text("ARGUMENT X, Y\nRETURN COS(Y * 3)");
+    CHECK(plan_hoisting(y_only.model->graph, {y_only.model->root}, {}).hoisted_operations == 1);
+}
+
+TEST_CASE("known node values are read instead of computed; kept ones are written out") {
+    auto c = test::compile_text("ARGUMENT X, Y\nVARIABLE D = SQRT(X*X + Y*Y)\nVARIABLE W = SIN(X * 3) * COS(Y * 5)\n"
+                                "RETURN (0.5 - D) & W");
+    REQUIRE(c.model);
+    const Model& m = *c.model;
+    REQUIRE(m.definitions.size() == 2);
+    const ir::NodeId d = m.definitions[0].second, w = m.definitions[1].second;
+    for (int cols : {90, 30}) {   // row tiles with hoisting, and flat tiles
+        CAPTURE(cols);
+        Grid grid = square_grid(2, 41);
+        grid.x.nodes = cols;
+        const Field whole = evaluate_grid(m, grid, EngineKind::Voxel);
+        std::vector<double> kept_d(grid.points()), kept_w(grid.points());
+        EvalOptions keep;
+        keep.keep = {{d, kept_d.data()}, {w, kept_w.data()}};
+        CHECK(evaluate_grid(m, grid, EngineKind::Voxel, keep).values == whole.values);
+        CHECK(kept_d == evaluate_grid(m.graph, d, grid, EngineKind::Voxel).values);
+        CHECK(kept_w == evaluate_grid(m.graph, w, grid, EngineKind::Voxel).values);
+        // Known values that are not the node's own prove they are read: D := 0 everywhere.
+        std::vector<double> zeros(grid.points(), 0.0);
+        EvalOptions known;
+        known.known = {{d, zeros.data()}, {w, kept_w.data()}};
+        const Field with_zero_d = evaluate_grid(m, grid, EngineKind::Voxel, known);
+        auto expected = test::compile_text("ARGUMENT X, Y\nRETURN 0.5 & (SIN(X * 3) * COS(Y * 5))");
+        CHECK(with_zero_d.values == evaluate_grid(*expected.model, grid, EngineKind::Voxel).values);
+    }
+    EvalOptions known;
+    std::vector<double> values(9);
+    known.known = {{d, values.data()}};
+    CHECK_THROWS_AS(evaluate_grid(m, square_grid(2, 3), EngineKind::Classic, known), std::invalid_argument);
 }

@@ -9,24 +9,6 @@
 
 namespace fortu::ir {
 
-int op_arity(Op op) {
-    static constexpr int kArity[] = {
-#define FORTU_OP(name, arity, spelling, flags, formula_ops, expr) arity,
-#include "interp/ir/ops.def"
-#undef FORTU_OP
-    };
-    return kArity[static_cast<int>(op)];
-}
-
-unsigned op_flags(Op op) {
-    static constexpr unsigned kFlags[] = {
-#define FORTU_OP(name, arity, spelling, flags, formula_ops, expr) (flags),
-#include "interp/ir/ops.def"
-#undef FORTU_OP
-    };
-    return kFlags[static_cast<int>(op)];
-}
-
 std::string_view op_name(Op op) {
     static constexpr std::string_view kNames[] = {
 #define FORTU_OP(name, arity, spelling, flags, formula_ops, expr) spelling,

@@ -31,8 +31,24 @@ enum OpFlags : unsigned {
     kROperation = 1u << 2,   ///< an R-operation: imm is alpha
 };
 
-int op_arity(Op op);
-unsigned op_flags(Op op);
+// Inline: the engines and the sign renderer ask per instruction in their hot loops.
+inline int op_arity(Op op) {
+    static constexpr int kArity[] = {
+#define FORTU_OP(name, arity, spelling, flags, formula_ops, expr) arity,
+#include "interp/ir/ops.def"
+#undef FORTU_OP
+    };
+    return kArity[static_cast<int>(op)];
+}
+
+inline unsigned op_flags(Op op) {
+    static constexpr unsigned kFlags[] = {
+#define FORTU_OP(name, arity, spelling, flags, formula_ops, expr) (flags),
+#include "interp/ir/ops.def"
+#undef FORTU_OP
+    };
+    return kFlags[static_cast<int>(op)];
+}
 std::string_view op_name(Op op);
 
 using NodeId = uint32_t;

@@ -101,13 +101,14 @@ TEST_CASE("pruning decides most of prospero.vm without touching its points") {
     auto model = load(std::filesystem::path(FORTU_SHARED_DIR) / "data" / "prospero.vm", errors);
     REQUIRE(model);
     SignRenderStats stats;
-    const Grid grid = grid_for(*model, 256, 64);
+    const Grid grid = grid_for(*model, 512, 64);
     CHECK(sign_mismatches(*model, grid, &stats) == 0);
     CHECK(stats.decided_points + stats.leaf_points == grid.points());
-    // The boundary of the text is a small part of the image, and the tapes at the leaves
-    // are a small part of the 7866 operations.
+    // Over a quarter of the image is decided by intervals alone (16×16 leaves along the text
+    // take the rest), and the tapes at the leaves keep a few dozen of the 6361 operations
+    // (41 per point on average).
     CHECK(stats.decided_points > grid.points() / 4);
-    CHECK(stats.leaf_operations < stats.leaf_points * 1000);
+    CHECK(stats.leaf_operations < stats.leaf_points * 100);
 }
 
 TEST_CASE("R-operations collapse for the sign: a 64-segment R0 contour") {

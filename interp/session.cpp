@@ -416,12 +416,17 @@ Field Session::evaluate(const Grid& grid, EngineKind engine, const EvalOptions& 
             if (const std::vector<double>* values = find_kept(key_of(node))) {
                 run.known.emplace_back(node, values->data());
                 known[node] = 1;
-                report.reused_definitions.push_back(name);
             }
         }
         computed = graph.reachable(std::span(&m.root, 1), &known);
-        std::vector<char> to_compute(graph.size(), 0);
-        for (ir::NodeId id : computed) to_compute[id] = !known[id];
+        std::vector<char> to_compute(graph.size(), 0), read(graph.size(), 0);
+        for (ir::NodeId id : computed) (known[id] ? read[id] : to_compute[id]) = 1;
+        // Reported: the kept values actually read, not those under another read definition.
+        for (const auto& [name, node] : m.definitions)
+            if (read[node]) {
+                report.reused_definitions.push_back(name);
+                read[node] = 0;
+            }
         // Kept: the last definition of each name (a FOR loop's redefinitions are one
         // cell), latest first (they build on earlier ones), within a count and memory cap.
         std::set<std::string> named;

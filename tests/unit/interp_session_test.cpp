@@ -161,3 +161,18 @@ TEST_CASE("a FOR loop's redefinitions are one kept cell, not one per step") {
     CHECK(report.reused_definitions == std::vector<std::string>{"D"});
     CHECK(report.computed_operations == 3);   // ABS(Y), 0.4 - ABS(Y) and the &: nothing of D
 }
+
+TEST_CASE("a kept definition under another kept one is not read, nor reported") {
+    Session s({});
+    s.submit("ARGUMENT X, Y\nVARIABLE D = SQRT(X*X + Y*Y)\nVARIABLE W = SIN(D * 7)\nCONSTANT R = 1\nRETURN R * W",
+             "<input>");
+    s.set_size({70});
+    EvalReport report;
+    s.evaluate(s.grid(), EngineKind::Voxel, {}, report);
+    CHECK(report.kept_definitions == 2);
+    s.submit("R = 2", "<input>");
+    const Field f = s.evaluate(s.grid(), EngineKind::Voxel, {}, report);
+    CHECK(report.reused_definitions == std::vector<std::string>{"W"});
+    CHECK(report.computed_operations == 1);
+    CHECK(f.values == evaluate_grid(s.model(), s.grid(), EngineKind::Classic).values);
+}

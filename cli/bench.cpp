@@ -26,7 +26,10 @@ constexpr const char* kBenchUsage = R"(usage:
                                    the papers' experiments E1-E5: results.md, results.json, plots
 
 options:
-  --engines classic,voxel   engines to time (default both)
+  --engines classic,voxel   what to time (default both): classic, voxel (float64),
+                            voxel-f32 (--precision float32), sign (--sign-only's renderer)
+  --mimages                 each run also computes the M-images (the FV model's components)
+                            after the evaluation; not for sign cells
   --sizes 200,400,800       nodes per axis (N means NxN, or NxNxN for a 3D model)
   --repeat N                timed runs per cell (default 3; a cell stops repeating after 20 s)
   --budget OPS              classic cells above OPS operations are skipped, with their
@@ -41,13 +44,13 @@ constexpr int kMaxBenchNodes = 20000;   // per axis; the grid itself is capped b
 
 struct BenchArgs {
     std::vector<std::string> models;
-    std::vector<EngineKind> engines{EngineKind::Classic, EngineKind::Voxel};
+    std::vector<BenchEngine> engines{BenchEngine::Classic, BenchEngine::Voxel};
     std::vector<int> sizes{200, 400, 800};
     MeasureOptions measure;
     std::string json, csv, plot;
     bool paper = false, quick = false;
     std::string out_dir = "bench-results", examples_dir;
-    bool out_given = false, sizes_given = false;
+    bool out_given = false, sizes_given = false, engines_given = false;
 };
 
 std::vector<std::string> split(const std::string& text) {
@@ -81,11 +84,15 @@ BenchArgs parse_bench_args(const std::vector<std::string>& args) {
         };
         if (a == "--engines") {
             b.engines.clear();
+            b.engines_given = true;
             for (const std::string& name : split(value())) {
-                const auto engine = parse_engine(name);
-                if (!engine) throw UsageError(fmt::format("--engines: unknown engine '{}' (classic, voxel)", name));
+                const auto engine = parse_bench_engine(name);
+                if (!engine)
+                    throw UsageError(fmt::format("--engines: unknown engine '{}' ({})", name, bench_engine_names()));
                 b.engines.push_back(*engine);
             }
+        } else if (a == "--mimages") {
+            b.measure.mimages = true;
         } else if (a == "--sizes") {
             b.sizes.clear();
             b.sizes_given = true;
@@ -131,6 +138,8 @@ BenchArgs parse_bench_args(const std::vector<std::string>& args) {
         throw UsageError("'fortu bench': --quick, --out and --examples go with --paper");
     if (b.paper && (b.sizes_given || !b.json.empty() || !b.csv.empty() || !b.plot.empty()))
         throw UsageError("'fortu bench --paper' chooses its own sizes and writes its files to --out DIR");
+    if (b.paper && (b.engines_given || b.measure.mimages))
+        throw UsageError("'fortu bench --paper' chooses what it times; --engines and --mimages go with MODEL...");
     return b;
 }
 
@@ -143,7 +152,7 @@ Plot bench_plot(const std::vector<BenchCell>& cells) {
     plot.log_x = plot.log_y = true;
     for (const BenchCell& c : cells) {
         if (c.skipped) continue;
-        const std::string name = fmt::format("{} ({})", c.model, engine_name(c.engine));
+        const std::string name = fmt::format("{} ({})", c.model, bench_engine_name(c.engine));
         auto it = std::find_if(plot.series.begin(), plot.series.end(), [&](const PlotSeries& s) { return s.name == name; });
         if (it == plot.series.end()) it = plot.series.insert(plot.series.end(), PlotSeries{name});
         it->points.emplace_back(double(c.points()), c.median);
@@ -163,7 +172,7 @@ int run_models(const BenchArgs& b) {
             if (double(grid.points()) > double(kMaxGridPoints))
                 throw UsageError(fmt::format("--sizes: {} is {} points, more than the {} fortu allocates",
                                              grid_size_text(grid), format_count(grid.points()), format_count(kMaxGridPoints)));
-            for (EngineKind engine : b.engines) cells.push_back(measure_cell(path, *model, grid, engine, b.measure, rate));
+            for (BenchEngine engine : b.engines) cells.push_back(measure_cell(path, *model, grid, engine, b.measure, rate));
         }
     }
     if (cells.empty()) return status;

@@ -20,6 +20,7 @@
 #include <fmt/format.h>
 #include <fstream>
 #include <iostream>
+#include <malloc.h>
 #include <numbers>
 #include <time.h>
 
@@ -57,8 +58,13 @@ std::size_t proc_status_bytes(const std::string& field) {
     return 0;
 }
 
-/// Resets the peak-RSS mark; false when the kernel refuses.
+/// Resets the peak-RSS mark; false when the kernel refuses. First hands the memory that
+/// earlier cells freed back to the kernel: glibc keeps freed blocks (and raises its mmap
+/// threshold after a large free), which would otherwise count in the next cell's RSS.
 bool reset_peak_rss() {
+#ifdef __GLIBC__
+    malloc_trim(0);
+#endif
     std::ofstream out("/proc/self/clear_refs");
     out << "5";
     out.flush();

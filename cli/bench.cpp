@@ -1,8 +1,10 @@
 // cli/bench.cpp — `fortu bench`: its command line, and the MODEL... mode (each model × engine
 // × size measured, printed as a table with classic/voxel ratios, optionally written as JSON,
-// CSV and an SVG plot). `--paper` hands over to bench_paper.cpp.
+// CSV and an SVG plot). `--paper` hands over to bench_paper.cpp, `--performance` to
+// bench_performance.cpp.
 #include "cli/bench_measure.hpp"
 #include "cli/bench_paper.hpp"
+#include "cli/bench_performance.hpp"
 #include "cli/bench_report.hpp"
 #include "cli/cli_options.hpp"
 #include "cli/commands.hpp"
@@ -24,6 +26,12 @@ constexpr const char* kBenchUsage = R"(usage:
   fortu bench MODEL... [options]   time each model x engine x size (bench/README.md)
   fortu bench --paper [--quick] [--out DIR] [--examples DIR] [--repeat N] [--threads N] [--budget OPS]
                                    the papers' experiments E1-E5: results.md, results.json, plots
+  fortu bench --performance [--quick] [--data DIR] [--out DIR] [--examples DIR] [--repeat N] [--threads N]
+                                   issue 5's suite (prospero.vm, 64-segment FLOZ, Fig. 3a with
+                                   M-images) beside its targets: results.md, results.json
+                                   (default --out bench-results/perf, --repeat 5; --data: the
+                                   folder with prospero.vm, default $FORTU_SHARED_DIR/data or
+                                   ../shared/data)
 
 options:
   --engines classic,voxel   what to time (default both): classic, voxel (float64),
@@ -48,9 +56,12 @@ struct BenchArgs {
     std::vector<int> sizes{200, 400, 800};
     MeasureOptions measure;
     std::string json, csv, plot;
-    bool paper = false, quick = false;
-    std::string out_dir = "bench-results", examples_dir;
-    bool out_given = false, sizes_given = false, engines_given = false;
+    bool paper = false, performance = false, quick = false;
+    std::string out_dir, examples_dir, data_dir;
+    bool sizes_given = false, engines_given = false, repeat_given = false;
+
+    /// "--paper", "--performance", or nullptr for the MODEL... mode.
+    const char* suite() const { return paper ? "--paper" : performance ? "--performance" : nullptr; }
 };
 
 std::vector<std::string> split(const std::string& text) {
@@ -99,6 +110,7 @@ BenchArgs parse_bench_args(const std::vector<std::string>& args) {
             for (const std::string& n : split(value())) b.sizes.push_back(int(parse_integer("--sizes", n, 2, kMaxBenchNodes)));
         } else if (a == "--repeat") {
             b.measure.repeat = int(parse_integer("--repeat", value(), 1, 1000));
+            b.repeat_given = true;
         } else if (a == "--threads") {
             b.measure.threads = int(parse_integer("--threads", value(), 0, 1024));
         } else if (a == "--budget") {
@@ -118,28 +130,39 @@ BenchArgs parse_bench_args(const std::vector<std::string>& args) {
                 throw UsageError(fmt::format("--plot: '{}' must end in .svg (fortu writes SVG plots)", b.plot));
         } else if (a == "--paper") {
             b.paper = true;
+        } else if (a == "--performance") {
+            b.performance = true;
         } else if (a == "--quick") {
             b.quick = true;
         } else if (a == "--out") {
             b.out_dir = value();
-            b.out_given = true;
+            if (b.out_dir.empty()) throw UsageError("--out: give a folder name");
         } else if (a == "--examples") {
             b.examples_dir = value();
+        } else if (a == "--data") {
+            b.data_dir = value();
         } else if (a.size() > 1 && a[0] == '-') {
             throw UsageError(fmt::format("'fortu bench': unknown option '{}'", a));
         } else {
             b.models.push_back(a);
         }
     }
+    if (b.paper && b.performance) throw UsageError("'fortu bench': --paper and --performance are two runs; give one");
+    const char* suite = b.suite();
     if (b.paper && !b.models.empty())
         throw UsageError("'fortu bench --paper' runs the papers' models; give no MODEL with it");
-    if (!b.paper && b.models.empty()) throw UsageError("'fortu bench': give at least one MODEL, or --paper");
-    if (!b.paper && (b.quick || b.out_given || !b.examples_dir.empty()))
-        throw UsageError("'fortu bench': --quick, --out and --examples go with --paper");
-    if (b.paper && (b.sizes_given || !b.json.empty() || !b.csv.empty() || !b.plot.empty()))
-        throw UsageError("'fortu bench --paper' chooses its own sizes and writes its files to --out DIR");
-    if (b.paper && (b.engines_given || b.measure.mimages))
-        throw UsageError("'fortu bench --paper' chooses what it times; --engines and --mimages go with MODEL...");
+    if (b.performance && !b.models.empty())
+        throw UsageError("'fortu bench --performance' runs issue 5's models; give no MODEL with it");
+    if (!suite && b.models.empty())
+        throw UsageError("'fortu bench': give at least one MODEL, or --paper, or --performance");
+    if (!suite && (b.quick || !b.out_dir.empty() || !b.examples_dir.empty()))
+        throw UsageError("'fortu bench': --quick, --out and --examples go with --paper or --performance");
+    if (!b.performance && !b.data_dir.empty()) throw UsageError("'fortu bench': --data goes with --performance");
+    if (suite && (b.sizes_given || !b.json.empty() || !b.csv.empty() || !b.plot.empty()))
+        throw UsageError(fmt::format("'fortu bench {}' chooses its own sizes and writes its files to --out DIR", suite));
+    if (suite && (b.engines_given || b.measure.mimages))
+        throw UsageError(fmt::format("'fortu bench {}' chooses what it times; --engines and --mimages go with MODEL...",
+                                     suite));
     return b;
 }
 
@@ -202,10 +225,20 @@ int run_bench_command(const std::vector<std::string>& args) {
         return 0;
     }
     const BenchArgs b = parse_bench_args(args);
+    if (b.performance) {
+        PerformanceOptions p;
+        p.quick = b.quick;
+        if (!b.out_dir.empty()) p.out_dir = b.out_dir;
+        p.data_dir = b.data_dir;
+        p.examples_dir = b.examples_dir;
+        p.measure = b.measure;
+        if (!b.repeat_given) p.measure.repeat = 5;
+        return run_performance_benchmarks(p);
+    }
     if (!b.paper) return run_models(b);
     PaperOptions p;
     p.quick = b.quick;
-    p.out_dir = b.out_dir;
+    if (!b.out_dir.empty()) p.out_dir = b.out_dir;
     p.examples_dir = b.examples_dir;
     p.measure = b.measure;
     // The paper run has ten minutes in all: slow cells repeat less than in the MODEL mode.

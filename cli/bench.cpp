@@ -1,8 +1,10 @@
 // cli/bench.cpp — `fortu bench`: its command line, and the MODEL... mode (each model × engine
 // × size measured, printed as a table with classic/voxel ratios, optionally written as JSON,
-// CSV and an SVG plot). `--paper` hands over to bench_paper.cpp.
+// CSV and an SVG plot). `--paper` hands over to bench_paper.cpp, `--performance` to
+// bench_performance.cpp.
 #include "cli/bench_measure.hpp"
 #include "cli/bench_paper.hpp"
+#include "cli/bench_performance.hpp"
 #include "cli/bench_report.hpp"
 #include "cli/cli_options.hpp"
 #include "cli/commands.hpp"
@@ -24,9 +26,18 @@ constexpr const char* kBenchUsage = R"(usage:
   fortu bench MODEL... [options]   time each model x engine x size (bench/README.md)
   fortu bench --paper [--quick] [--out DIR] [--examples DIR] [--repeat N] [--threads N] [--budget OPS]
                                    the papers' experiments E1-E5: results.md, results.json, plots
+  fortu bench --performance [--quick] [--data DIR] [--out DIR] [--examples DIR] [--repeat N] [--threads N]
+                                   issue 5's suite (prospero.vm, 64-segment FLOZ, Fig. 3a with
+                                   M-images) beside its targets: results.md, results.json
+                                   (default --out bench-results/perf, --repeat 5; --data: the
+                                   folder with prospero.vm, default $FORTU_SHARED_DIR/data or
+                                   ../shared/data)
 
 options:
-  --engines classic,voxel   engines to time (default both)
+  --engines classic,voxel   what to time (default both): classic, voxel (float64),
+                            voxel-f32 (--precision float32), sign (--sign-only's renderer)
+  --mimages                 each run also computes the M-images (the FV model's components)
+                            after the evaluation; not for sign cells
   --sizes 200,400,800       nodes per axis (N means NxN, or NxNxN for a 3D model)
   --repeat N                timed runs per cell (default 3; a cell stops repeating after 20 s)
   --budget OPS              classic cells above OPS operations are skipped, with their
@@ -41,13 +52,16 @@ constexpr int kMaxBenchNodes = 20000;   // per axis; the grid itself is capped b
 
 struct BenchArgs {
     std::vector<std::string> models;
-    std::vector<EngineKind> engines{EngineKind::Classic, EngineKind::Voxel};
+    std::vector<BenchEngine> engines{BenchEngine::Classic, BenchEngine::Voxel};
     std::vector<int> sizes{200, 400, 800};
     MeasureOptions measure;
     std::string json, csv, plot;
-    bool paper = false, quick = false;
-    std::string out_dir = "bench-results", examples_dir;
-    bool out_given = false, sizes_given = false;
+    bool paper = false, performance = false, quick = false;
+    std::string out_dir, examples_dir, data_dir;
+    bool sizes_given = false, engines_given = false, repeat_given = false;
+
+    /// "--paper", "--performance", or nullptr for the MODEL... mode.
+    const char* suite() const { return paper ? "--paper" : performance ? "--performance" : nullptr; }
 };
 
 std::vector<std::string> split(const std::string& text) {
@@ -81,17 +95,22 @@ BenchArgs parse_bench_args(const std::vector<std::string>& args) {
         };
         if (a == "--engines") {
             b.engines.clear();
+            b.engines_given = true;
             for (const std::string& name : split(value())) {
-                const auto engine = parse_engine(name);
-                if (!engine) throw UsageError(fmt::format("--engines: unknown engine '{}' (classic, voxel)", name));
+                const auto engine = parse_bench_engine(name);
+                if (!engine)
+                    throw UsageError(fmt::format("--engines: unknown engine '{}' ({})", name, bench_engine_names()));
                 b.engines.push_back(*engine);
             }
+        } else if (a == "--mimages") {
+            b.measure.mimages = true;
         } else if (a == "--sizes") {
             b.sizes.clear();
             b.sizes_given = true;
             for (const std::string& n : split(value())) b.sizes.push_back(int(parse_integer("--sizes", n, 2, kMaxBenchNodes)));
         } else if (a == "--repeat") {
             b.measure.repeat = int(parse_integer("--repeat", value(), 1, 1000));
+            b.repeat_given = true;
         } else if (a == "--threads") {
             b.measure.threads = int(parse_integer("--threads", value(), 0, 1024));
         } else if (a == "--budget") {
@@ -111,26 +130,39 @@ BenchArgs parse_bench_args(const std::vector<std::string>& args) {
                 throw UsageError(fmt::format("--plot: '{}' must end in .svg (fortu writes SVG plots)", b.plot));
         } else if (a == "--paper") {
             b.paper = true;
+        } else if (a == "--performance") {
+            b.performance = true;
         } else if (a == "--quick") {
             b.quick = true;
         } else if (a == "--out") {
             b.out_dir = value();
-            b.out_given = true;
+            if (b.out_dir.empty()) throw UsageError("--out: give a folder name");
         } else if (a == "--examples") {
             b.examples_dir = value();
+        } else if (a == "--data") {
+            b.data_dir = value();
         } else if (a.size() > 1 && a[0] == '-') {
             throw UsageError(fmt::format("'fortu bench': unknown option '{}'", a));
         } else {
             b.models.push_back(a);
         }
     }
+    if (b.paper && b.performance) throw UsageError("'fortu bench': --paper and --performance are two runs; give one");
+    const char* suite = b.suite();
     if (b.paper && !b.models.empty())
         throw UsageError("'fortu bench --paper' runs the papers' models; give no MODEL with it");
-    if (!b.paper && b.models.empty()) throw UsageError("'fortu bench': give at least one MODEL, or --paper");
-    if (!b.paper && (b.quick || b.out_given || !b.examples_dir.empty()))
-        throw UsageError("'fortu bench': --quick, --out and --examples go with --paper");
-    if (b.paper && (b.sizes_given || !b.json.empty() || !b.csv.empty() || !b.plot.empty()))
-        throw UsageError("'fortu bench --paper' chooses its own sizes and writes its files to --out DIR");
+    if (b.performance && !b.models.empty())
+        throw UsageError("'fortu bench --performance' runs issue 5's models; give no MODEL with it");
+    if (!suite && b.models.empty())
+        throw UsageError("'fortu bench': give at least one MODEL, or --paper, or --performance");
+    if (!suite && (b.quick || !b.out_dir.empty() || !b.examples_dir.empty()))
+        throw UsageError("'fortu bench': --quick, --out and --examples go with --paper or --performance");
+    if (!b.performance && !b.data_dir.empty()) throw UsageError("'fortu bench': --data goes with --performance");
+    if (suite && (b.sizes_given || !b.json.empty() || !b.csv.empty() || !b.plot.empty()))
+        throw UsageError(fmt::format("'fortu bench {}' chooses its own sizes and writes its files to --out DIR", suite));
+    if (suite && (b.engines_given || b.measure.mimages))
+        throw UsageError(fmt::format("'fortu bench {}' chooses what it times; --engines and --mimages go with MODEL...",
+                                     suite));
     return b;
 }
 
@@ -143,7 +175,7 @@ Plot bench_plot(const std::vector<BenchCell>& cells) {
     plot.log_x = plot.log_y = true;
     for (const BenchCell& c : cells) {
         if (c.skipped) continue;
-        const std::string name = fmt::format("{} ({})", c.model, engine_name(c.engine));
+        const std::string name = fmt::format("{} ({})", c.model, bench_engine_name(c.engine));
         auto it = std::find_if(plot.series.begin(), plot.series.end(), [&](const PlotSeries& s) { return s.name == name; });
         if (it == plot.series.end()) it = plot.series.insert(plot.series.end(), PlotSeries{name});
         it->points.emplace_back(double(c.points()), c.median);
@@ -163,7 +195,7 @@ int run_models(const BenchArgs& b) {
             if (double(grid.points()) > double(kMaxGridPoints))
                 throw UsageError(fmt::format("--sizes: {} is {} points, more than the {} fortu allocates",
                                              grid_size_text(grid), format_count(grid.points()), format_count(kMaxGridPoints)));
-            for (EngineKind engine : b.engines) cells.push_back(measure_cell(path, *model, grid, engine, b.measure, rate));
+            for (BenchEngine engine : b.engines) cells.push_back(measure_cell(path, *model, grid, engine, b.measure, rate));
         }
     }
     if (cells.empty()) return status;
@@ -193,10 +225,20 @@ int run_bench_command(const std::vector<std::string>& args) {
         return 0;
     }
     const BenchArgs b = parse_bench_args(args);
+    if (b.performance) {
+        PerformanceOptions p;
+        p.quick = b.quick;
+        if (!b.out_dir.empty()) p.out_dir = b.out_dir;
+        p.data_dir = b.data_dir;
+        p.examples_dir = b.examples_dir;
+        p.measure = b.measure;
+        if (!b.repeat_given) p.measure.repeat = 5;
+        return run_performance_benchmarks(p);
+    }
     if (!b.paper) return run_models(b);
     PaperOptions p;
     p.quick = b.quick;
-    p.out_dir = b.out_dir;
+    if (!b.out_dir.empty()) p.out_dir = b.out_dir;
     p.examples_dir = b.examples_dir;
     p.measure = b.measure;
     // The paper run has ten minutes in all: slow cells repeat less than in the MODEL mode.

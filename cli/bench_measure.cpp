@@ -8,7 +8,10 @@
 #include "interp/classic_cost.hpp"
 #include "interp/ir_print.hpp"
 #include "interp/lower.hpp"
+#include "interp/sign_render.hpp"
 #include "interp/tape.hpp"
+#include "interp/vm_import.hpp"
+#include "runtime/fv_model.hpp"
 #include "runtime/resources.hpp"
 
 #include <algorithm>
@@ -17,6 +20,7 @@
 #include <fmt/format.h>
 #include <fstream>
 #include <iostream>
+#include <malloc.h>
 #include <numbers>
 #include <time.h>
 
@@ -25,11 +29,21 @@ namespace {
 
 constexpr double kCalibrationOperations = 2e7;
 
+struct EngineEntry {
+    BenchEngine engine;
+    const char* name;
+};
+constexpr EngineEntry kEngines[] = {{BenchEngine::Classic, "classic"},
+                                    {BenchEngine::Voxel, "voxel"},
+                                    {BenchEngine::VoxelFloat32, "voxel-f32"},
+                                    {BenchEngine::Sign, "sign"}};
+
 std::optional<Model> compile_source(std::shared_ptr<SourceFile> source) {
     DiagnosticSink sink;
     CompileOptions options;
     options.include_dirs = bench_stdlib_dirs();
-    std::optional<Model> model = compile(source, options, sink);
+    std::optional<Model> model =
+        is_vm_path(source->path()) ? import_vm(source, sink) : compile(source, options, sink);
     for (const Diagnostic& d : sink.diagnostics())
         if (d.severity != Severity::Note) std::cerr << render(d);
     return model;
@@ -44,8 +58,13 @@ std::size_t proc_status_bytes(const std::string& field) {
     return 0;
 }
 
-/// Resets the peak-RSS mark; false when the kernel refuses.
+/// Resets the peak-RSS mark; false when the kernel refuses. First hands the memory that
+/// earlier cells freed back to the kernel: glibc keeps freed blocks (and raises its mmap
+/// threshold after a large free), which would otherwise count in the next cell's RSS.
 bool reset_peak_rss() {
+#ifdef __GLIBC__
+    malloc_trim(0);
+#endif
     std::ofstream out("/proc/self/clear_refs");
     out << "5";
     out.flush();
@@ -58,6 +77,40 @@ bool& clear_refs_works() {
 }
 
 }  // namespace
+
+const char* bench_engine_name(BenchEngine engine) {
+    for (const EngineEntry& e : kEngines)
+        if (e.engine == engine) return e.name;
+    return "?";
+}
+
+std::optional<BenchEngine> parse_bench_engine(const std::string& name) {
+    for (const EngineEntry& e : kEngines)
+        if (name == e.name) return e.engine;
+    return std::nullopt;
+}
+
+std::string bench_engine_names() {
+    std::string names;
+    for (const EngineEntry& e : kEngines) names += (names.empty() ? "" : ", ") + std::string(e.name);
+    return names;
+}
+
+std::optional<std::filesystem::path> find_near_binary(const std::filesystem::path& relative) {
+    std::error_code ec;
+    const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+    if (ec) return std::nullopt;
+    for (auto dir = exe.parent_path(); !dir.empty(); dir = dir.parent_path()) {
+        if (std::filesystem::is_directory(dir / relative, ec)) return (dir / relative).lexically_normal();
+        if (dir == dir.root_path()) break;
+    }
+    return std::nullopt;
+}
+
+std::filesystem::path examples_folder(const std::string& given) {
+    if (!given.empty()) return given;
+    return find_near_binary("examples").value_or("examples");
+}
 
 std::vector<std::string> bench_stdlib_dirs() {
     std::vector<std::string> dirs;
@@ -132,7 +185,7 @@ double median_of(std::vector<double> v) {
 const char* memory_method() { return clear_refs_works() ? "clear_refs" : "ru_maxrss"; }
 
 void ClassicRate::observe(const BenchCell& cell, int threads) {
-    if (cell.engine != EngineKind::Classic || cell.skipped || cell.median <= 0) return;
+    if (cell.engine != BenchEngine::Classic || cell.skipped || cell.median <= 0) return;
     Known& k = known_[threads];
     if (cell.total_operations() < k.operations) return;
     k.operations = cell.total_operations();
@@ -160,7 +213,7 @@ double ClassicRate::seconds_per_operation(int threads) {
 namespace {
 
 void set_operations(BenchCell& cell, const Model& model) {
-    cell.operations_per_point = cell.engine == EngineKind::Classic
+    cell.operations_per_point = cell.engine == BenchEngine::Classic
                                     ? classic_operations_per_point(model.graph, model.root)
                                     : double(compile_tape(model.graph, model.root).code.size());
 }
@@ -172,36 +225,66 @@ double process_cpu_seconds() {
     return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
 }
 
+/// The field as `fortu run` computes it for this engine (`--precision float32`, `--sign-only`).
+Field evaluate_for(const Model& model, const Grid& grid, BenchEngine engine, EvalOptions eval) {
+    switch (engine) {
+        case BenchEngine::Classic: return evaluate_grid(model, grid, EngineKind::Classic, eval);
+        case BenchEngine::Voxel: break;
+        case BenchEngine::VoxelFloat32: eval.precision = Precision::Float32; break;
+        case BenchEngine::Sign: return sign_render(model.graph, model.root, grid, eval);
+    }
+    return evaluate_grid(model, grid, EngineKind::Voxel, eval);
+}
+
+/// M-images of a sign image would be planes through ±1 steps: sign cells never compute them.
+bool computes_mimages(BenchEngine engine, const MeasureOptions& options) {
+    return options.mimages && engine != BenchEngine::Sign;
+}
+
+/// One timed run of a cell, appended to its seconds, CPU seconds and M-image seconds.
+void timed_run(BenchCell& cell, const Model& model, const MeasureOptions& options) {
+    EvalOptions eval;
+    eval.threads = options.threads;
+    const double cpu = process_cpu_seconds();
+    Stopwatch clock;
+    const Field field = evaluate_for(model, cell.grid, cell.engine, eval);
+    if (computes_mimages(cell.engine, options)) {
+        Stopwatch mimages_clock;
+        const FvModel fv(field);   // the normalised components n1..n_{dims+2}: the M-images' values
+        cell.mimages_seconds.push_back(mimages_clock.seconds());
+        cell.mimages = fv.components();
+    }
+    cell.seconds.push_back(clock.seconds());
+    cell.cpu_seconds.push_back(process_cpu_seconds() - cpu);
+}
+
 void summarise(BenchCell& cell) {
     cell.cpu_median = median_of(cell.cpu_seconds);
+    cell.mimages_median = median_of(cell.mimages_seconds);
     cell.min = *std::min_element(cell.seconds.begin(), cell.seconds.end());
     cell.max = *std::max_element(cell.seconds.begin(), cell.seconds.end());
     cell.median = median_of(cell.seconds);
 }
 
+BenchCell new_cell(const std::string& name, const Model& model, const Grid& grid, BenchEngine engine) {
+    BenchCell cell;
+    cell.model = name;
+    cell.engine = engine;
+    cell.grid = grid;
+    set_operations(cell, model);
+    return cell;
+}
+
 }  // namespace
 
-std::vector<BenchCell> measure_interleaved(const std::vector<SeriesEntry>& entries, EngineKind engine,
+std::vector<BenchCell> measure_interleaved(const std::vector<SeriesEntry>& entries, BenchEngine engine,
                                            const MeasureOptions& options) {
-    std::vector<BenchCell> cells(entries.size());
-    for (std::size_t i = 0; i < entries.size(); ++i) {
-        cells[i].model = entries[i].name;
-        cells[i].engine = engine;
-        cells[i].grid = entries[i].grid;
-        set_operations(cells[i], *entries[i].model);
-    }
+    std::vector<BenchCell> cells;
+    for (const SeriesEntry& entry : entries) cells.push_back(new_cell(entry.name, *entry.model, entry.grid, engine));
     const bool per_series_peak = clear_refs_works() && reset_peak_rss();
     const std::size_t rss_before = per_series_peak ? proc_status_bytes("VmRSS") : peak_rss_bytes();
-    EvalOptions eval;
-    eval.threads = options.threads;
     for (int round = 0; round < std::max(1, options.repeat); ++round)
-        for (std::size_t i = 0; i < entries.size(); ++i) {
-            const double cpu = process_cpu_seconds();
-            Stopwatch clock;
-            const Field field = evaluate_grid(*entries[i].model, entries[i].grid, engine, eval);
-            cells[i].seconds.push_back(clock.seconds());
-            cells[i].cpu_seconds.push_back(process_cpu_seconds() - cpu);
-        }
+        for (std::size_t i = 0; i < entries.size(); ++i) timed_run(cells[i], *entries[i].model, options);
     const std::size_t peak = per_series_peak ? proc_status_bytes("VmHWM") : peak_rss_bytes();
     for (BenchCell& c : cells) {
         c.peak_rss_bytes = peak;
@@ -211,14 +294,10 @@ std::vector<BenchCell> measure_interleaved(const std::vector<SeriesEntry>& entri
     return cells;
 }
 
-BenchCell measure_cell(const std::string& name, const Model& model, const Grid& grid, EngineKind engine,
+BenchCell measure_cell(const std::string& name, const Model& model, const Grid& grid, BenchEngine engine,
                        const MeasureOptions& options, ClassicRate& rate) {
-    BenchCell cell;
-    cell.model = name;
-    cell.engine = engine;
-    cell.grid = grid;
-    set_operations(cell, model);
-    if (engine == EngineKind::Classic) {
+    BenchCell cell = new_cell(name, model, grid, engine);
+    if (engine == BenchEngine::Classic) {
         const int depth = dag_depth(model.graph, model.root);
         if (depth > kClassicMaxDepth) {
             cell.skipped = true;
@@ -238,16 +317,10 @@ BenchCell measure_cell(const std::string& name, const Model& model, const Grid& 
 
     const bool per_cell_peak = clear_refs_works() && reset_peak_rss();
     const std::size_t rss_before = per_cell_peak ? proc_status_bytes("VmRSS") : peak_rss_bytes();
-    EvalOptions eval;
-    eval.threads = options.threads;
     double total = 0;
     for (int i = 0; i < std::max(1, options.repeat); ++i) {
         if (i > 0 && total >= options.repeat_cap) break;
-        const double cpu = process_cpu_seconds();
-        Stopwatch clock;
-        const Field field = evaluate_grid(model, grid, engine, eval);
-        cell.seconds.push_back(clock.seconds());
-        cell.cpu_seconds.push_back(process_cpu_seconds() - cpu);
+        timed_run(cell, model, options);
         total += cell.seconds.back();
     }
     cell.peak_rss_bytes = per_cell_peak ? proc_status_bytes("VmHWM") : peak_rss_bytes();

@@ -1,7 +1,8 @@
-// cli/bench_measure.hpp — `fortu bench`'s measuring: loading models (from files or generated
-// text), the grid of a size, and one cell (model × engine × grid) timed over repeats with its
-// cost per point and peak memory. Over-budget classic cells are kept, marked skipped, with
-// their estimated time, so a table never silently drops the slow side of a comparison.
+// cli/bench_measure.hpp — `fortu bench`'s measuring: loading models (from .fortu/.vm files or
+// generated text), the grid of a size, and one cell (model × engine × grid) timed over repeats
+// with its cost per point and peak memory, optionally with the M-images computed after each
+// evaluation. Over-budget classic cells are kept, marked skipped, with their estimated time,
+// so a table never silently drops the slow side of a comparison.
 #pragma once
 
 #include "interp/engine.hpp"
@@ -9,6 +10,7 @@
 #include "runtime/grid.hpp"
 
 #include <cstddef>
+#include <filesystem>
 #include <map>
 #include <optional>
 #include <string>
@@ -20,7 +22,16 @@ namespace fortu {
 /// source tree's.
 std::vector<std::string> bench_stdlib_dirs();
 
-/// Reads and compiles a model file; diagnostics go to stderr. nullopt on any error.
+/// The first `relative` (e.g. "examples", "bench/models", "../shared/data") that is a folder
+/// beside the binary or beside one of its parent folders — the source tree's, for a binary in
+/// build/release/. nullopt when there is none.
+std::optional<std::filesystem::path> find_near_binary(const std::filesystem::path& relative);
+
+/// The example models: `given` if not empty, else examples/ found near the binary, else ./examples.
+std::filesystem::path examples_folder(const std::string& given);
+
+/// Reads and compiles a model file (.fortu, or a .vm model imported); diagnostics go to
+/// stderr. nullopt on any error.
 std::optional<Model> load_bench_model(const std::string& path);
 
 /// Compiles generated FORTU text (E3's polygons); nullopt (and diagnostics on stderr) on error.
@@ -36,19 +47,30 @@ Grid bench_grid(const Model& model, int nodes);
 /// "800x800" or "64x64x64".
 std::string grid_size_text(const Grid& grid);
 
+/// What a cell times: one of the two engines, the voxel engine in single precision, or the
+/// interval-pruned sign renderer (`fortu run --sign-only`).
+enum class BenchEngine { Classic, Voxel, VoxelFloat32, Sign };
+
+/// "classic", "voxel", "voxel-f32", "sign" (the --engines names, also used in JSON and CSV).
+const char* bench_engine_name(BenchEngine engine);
+std::optional<BenchEngine> parse_bench_engine(const std::string& name);
+/// The names parse_bench_engine() accepts, for messages: "classic, voxel, voxel-f32, sign".
+std::string bench_engine_names();
+
 struct MeasureOptions {
     int repeat = 3;               ///< timed runs per cell (at least one)
     double repeat_cap = 20.0;     ///< no further repeat once the runs so far took this long (s)
     int threads = 0;              ///< EvalOptions::threads
     double budget = 2e10;         ///< classic operations per cell before it is skipped
+    bool mimages = false;         ///< each run also computes the M-images (not for sign cells)
 };
 
 /// One measured (or skipped) combination of model, engine and grid.
 struct BenchCell {
     std::string model;                 ///< path or generated name
-    EngineKind engine = EngineKind::Voxel;
+    BenchEngine engine = BenchEngine::Voxel;
     Grid grid;
-    double operations_per_point = 0;   ///< classic: expanded tree; voxel: tape instructions
+    double operations_per_point = 0;   ///< classic: expanded tree; others: tape instructions
     bool skipped = false;
     std::string skip_reason;           ///< why, with the operation count
     std::vector<double> seconds;       ///< each timed run, in order
@@ -56,6 +78,9 @@ struct BenchCell {
     std::vector<double> cpu_seconds;   ///< the process's CPU time of each run: the work itself,
                                        ///< unaffected by waiting for a core on a shared machine
     double cpu_median = 0;
+    int mimages = 0;                   ///< M-images computed in each run (4 in 2D, 5 in 3D; 0: none)
+    std::vector<double> mimages_seconds;   ///< the M-images' part of each run (in `seconds` too)
+    double mimages_median = 0;
     std::size_t peak_rss_bytes = 0;    ///< the process's peak RSS during the cell
     std::size_t rss_growth_bytes = 0;  ///< that peak minus the RSS when the cell started
     double estimated_seconds = -1;     ///< skipped classic cells: operations × measured rate; < 0 unknown
@@ -83,9 +108,11 @@ private:
 };
 
 /// Times `engine` on `model` over `grid`: repeats (stopping early after options.repeat_cap
-/// seconds), min/median/max, peak memory. A classic cell over options.budget, or nested
-/// deeper than the classic engine recurses, is returned skipped with its estimate.
-BenchCell measure_cell(const std::string& name, const Model& model, const Grid& grid, EngineKind engine,
+/// seconds), min/median/max, peak memory; with options.mimages each run is the evaluation
+/// plus the FV model's normalised components (FvModel), i.e. the M-images before palette
+/// encoding and file writing. A classic cell over options.budget, or nested deeper than the
+/// classic engine recurses, is returned skipped with its estimate.
+BenchCell measure_cell(const std::string& name, const Model& model, const Grid& grid, BenchEngine engine,
                        const MeasureOptions& options, ClassicRate& rate);
 
 /// One (name, model, grid) of an interleaved series.
@@ -99,7 +126,7 @@ struct SeriesEntry {
 /// turn: a change in the machine's load during the series then shifts every entry alike
 /// instead of bending the curve (E3's voxel line). Peak memory is the series' own, the same
 /// for every cell.
-std::vector<BenchCell> measure_interleaved(const std::vector<SeriesEntry>& entries, EngineKind engine,
+std::vector<BenchCell> measure_interleaved(const std::vector<SeriesEntry>& entries, BenchEngine engine,
                                            const MeasureOptions& options);
 
 /// How peak memory was measured, for the reports ("clear_refs" or "ru_maxrss").

@@ -47,29 +47,18 @@ struct Context {
     bool failed = false;
 };
 
-std::filesystem::path find_examples(const std::string& given) {
-    if (!given.empty()) return given;
-    std::error_code ec;
-    const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-    if (!ec) {
-        for (auto dir = exe.parent_path(); !dir.empty() && dir != dir.root_path(); dir = dir.parent_path())
-            if (std::filesystem::is_directory(dir / "examples")) return dir / "examples";
-    }
-    return "examples";
-}
-
 std::optional<Model> load_example(Context& ctx, const std::string& file) {
     std::optional<Model> model = load_bench_model((ctx.examples / file).string());
     if (!model) ctx.failed = true;
     return model;
 }
 
-BenchCell run_cell(Context& ctx, const std::string& name, const Model& model, const Grid& grid, EngineKind engine,
+BenchCell run_cell(Context& ctx, const std::string& name, const Model& model, const Grid& grid, BenchEngine engine,
                    const MeasureOptions& measure) {
     // The whole run must end in time on a loaded machine: a classic cell whose estimate
     // (operations × the classic speed measured so far) would pass the deadline is not run.
     const double operations = classic_operations_per_point(model.graph, model.root) * double(grid.points());
-    if (engine == EngineKind::Classic && operations <= measure.budget) {
+    if (engine == BenchEngine::Classic && operations <= measure.budget) {
         const double estimate = ctx.rate.seconds_per_operation(measure.threads) * operations;
         const double left = ctx.deadline - ctx.clock.seconds();
         if (estimate > left) {
@@ -85,7 +74,7 @@ BenchCell run_cell(Context& ctx, const std::string& name, const Model& model, co
             return c;
         }
     }
-    std::cerr << fmt::format("bench: {} {} {} ...\n", name, engine_name(engine), grid_size_text(grid));
+    std::cerr << fmt::format("bench: {} {} {} ...\n", name, bench_engine_name(engine), grid_size_text(grid));
     return measure_cell(name, model, grid, engine, measure, ctx.rate);
 }
 
@@ -114,10 +103,10 @@ Experiment e1_fig3a(Context& ctx) {
     // The comparison needs all four cells: the budget does not apply (E4 reuses the 800² ones).
     MeasureOptions m = ctx.options.measure;
     m.budget = std::numeric_limits<double>::infinity();
-    e.cells.push_back(run_cell(ctx, "s1_fig3a_formula.fortu", *formula, bench_grid(*formula, size), EngineKind::Classic, m));
-    e.cells.push_back(run_cell(ctx, "s1_fig3a_floz.fortu", *floz, bench_grid(*floz, size), EngineKind::Voxel, m));
-    e.cells.push_back(run_cell(ctx, "s1_fig3a_floz.fortu", *floz, bench_grid(*floz, size), EngineKind::Classic, m));
-    e.cells.push_back(run_cell(ctx, "s1_fig3a_formula.fortu", *formula, bench_grid(*formula, size), EngineKind::Voxel, m));
+    e.cells.push_back(run_cell(ctx, "s1_fig3a_formula.fortu", *formula, bench_grid(*formula, size), BenchEngine::Classic, m));
+    e.cells.push_back(run_cell(ctx, "s1_fig3a_floz.fortu", *floz, bench_grid(*floz, size), BenchEngine::Voxel, m));
+    e.cells.push_back(run_cell(ctx, "s1_fig3a_floz.fortu", *floz, bench_grid(*floz, size), BenchEngine::Classic, m));
+    e.cells.push_back(run_cell(ctx, "s1_fig3a_formula.fortu", *formula, bench_grid(*formula, size), BenchEngine::Voxel, m));
     const char* paper[] = {"17 min 29 s (1049 s)", "1 min 51 s (111 s)", "—", "—"};
     const char* what[] = {"classic, formula (3)", "voxel, FLOZ-construction", "classic, FLOZ-construction",
                           "voxel, formula (3)"};
@@ -157,8 +146,8 @@ Experiment e2_polygon(Context& ctx) {
         return e;
     }
     const Grid grid = bench_grid(*model, size);
-    e.cells.push_back(run_cell(ctx, "lrfm_polygon14.fortu", *model, grid, EngineKind::Voxel, ctx.options.measure));
-    e.cells.push_back(run_cell(ctx, "lrfm_polygon14.fortu", *model, grid, EngineKind::Classic, ctx.options.measure));
+    e.cells.push_back(run_cell(ctx, "lrfm_polygon14.fortu", *model, grid, BenchEngine::Voxel, ctx.options.measure));
+    e.cells.push_back(run_cell(ctx, "lrfm_polygon14.fortu", *model, grid, BenchEngine::Classic, ctx.options.measure));
     const int steps = std::max(1, r_operation_count(*model));
     const double total = e.cells[0].median, per_step = total / steps;
     e.markdown = fmt::format(
@@ -204,7 +193,7 @@ Experiment e3_steps(Context& ctx, const std::string& out_dir) {
         series.push_back({fmt::format("floz_steps_{}", i + 1), &models[i], bench_grid(models[i], size)});
     std::cerr << fmt::format("bench: floz_steps_1..{} voxel {}x{}, {} interleaved rounds ...\n", models.size(), size,
                              size, voxel.repeat);
-    const std::vector<BenchCell> voxel_cells = measure_interleaved(series, EngineKind::Voxel, voxel);
+    const std::vector<BenchCell> voxel_cells = measure_interleaved(series, BenchEngine::Voxel, voxel);
     for (std::size_t i = 0; i < models.size(); ++i) {
         const int n = int(i) + 1;
         const std::string& name = series[i].name;
@@ -219,10 +208,10 @@ Experiment e3_steps(Context& ctx, const std::string& out_dir) {
         const double ops = classic_operations_per_point(model->graph, model->root);
         if (previous_seconds >= 0 && previous_seconds * ops / previous_operations > cap) stopped = true;
         if (!stopped) {
-            c = run_cell(ctx, name, *model, grid, EngineKind::Classic, classic);
+            c = run_cell(ctx, name, *model, grid, BenchEngine::Classic, classic);
         } else {
             c.model = name;
-            c.engine = EngineKind::Classic;
+            c.engine = BenchEngine::Classic;
             c.grid = grid;
             c.operations_per_point = ops;
             c.skipped = true;
@@ -263,7 +252,7 @@ Experiment e3_steps(Context& ctx, const std::string& out_dir) {
     for (const BenchCell& c : e.cells) {
         const double n = std::stod(c.model.substr(c.model.rfind('_') + 1));
         if (c.skipped) continue;
-        (c.engine == EngineKind::Classic ? sc : sv).points.emplace_back(n, c.cpu_median);
+        (c.engine == BenchEngine::Classic ? sc : sv).points.emplace_back(n, c.cpu_median);
     }
     if (classic_fit)
         for (double n : n_classic) fc.points.emplace_back(n, std::exp(classic_fit->intercept + classic_fit->slope * n));
@@ -326,7 +315,7 @@ Experiment e4_resolution(Context& ctx, const std::string& out_dir, const Experim
         const Grid grid = bench_grid(*model, size);
         const BenchCell* cells[2] = {nullptr, nullptr};
         for (int k = 0; k < 2; ++k) {
-            const EngineKind engine = k == 0 ? EngineKind::Classic : EngineKind::Voxel;
+            const BenchEngine engine = k == 0 ? BenchEngine::Classic : BenchEngine::Voxel;
             for (const BenchCell& c : e1.cells)   // E1 measured these at its size: reuse them
                 if (c.model == "s1_fig3a_floz.fortu" && c.engine == engine && c.points() == grid.points() && !c.skipped)
                     e.cells.push_back(c), cells[k] = &e.cells.back();
@@ -376,8 +365,8 @@ Experiment e5_sphere(Context& ctx) {
     std::string rows;
     for (int size : sizes) {
         const Grid grid = bench_grid(*model, size);
-        e.cells.push_back(run_cell(ctx, "floz3_sphere80.fortu", *model, grid, EngineKind::Voxel, ctx.options.measure));
-        e.cells.push_back(run_cell(ctx, "floz3_sphere80.fortu", *model, grid, EngineKind::Classic, ctx.options.measure));
+        e.cells.push_back(run_cell(ctx, "floz3_sphere80.fortu", *model, grid, BenchEngine::Voxel, ctx.options.measure));
+        e.cells.push_back(run_cell(ctx, "floz3_sphere80.fortu", *model, grid, BenchEngine::Classic, ctx.options.measure));
         const BenchCell& v = e.cells[e.cells.size() - 2];
         const BenchCell& c = e.cells.back();
         rows += fmt::format("| {} | {} | {} | {} | {} | {} |\n", grid_size_text(grid), format_count(grid.points()),
@@ -391,12 +380,10 @@ Experiment e5_sphere(Context& ctx) {
 
 std::string paper_json(const std::vector<Experiment>& experiments, const MachineInfo& machine, const PaperOptions& o) {
     std::string out = fmt::format(
-        "{{\n  \"schema\": \"fortu-bench-paper/1\",\n  \"machine\": {{\"cpu\": {}, \"cores\": {}, \"compiler\": {}, "
-        "\"build\": {}, \"date\": {}}},\n  \"options\": {{\"quick\": {}, \"repeat\": {}, \"repeat_cap_seconds\": {}, "
-        "\"threads\": {}, \"budget_operations\": {}, \"cell_cap_seconds\": {}, \"memory_method\": \"{}\"}},\n"
-        "  \"experiments\": [\n",
-        json_string(machine.cpu), machine.cores, json_string(machine.compiler), json_string(machine.build),
-        json_string(machine.date), o.quick ? "true" : "false", o.measure.repeat, json_number(o.measure.repeat_cap),
+        "{{\n  \"schema\": \"fortu-bench-paper/1\",\n  \"machine\": {},\n  \"options\": {{\"quick\": {}, "
+        "\"repeat\": {}, \"repeat_cap_seconds\": {}, \"threads\": {}, \"budget_operations\": {}, "
+        "\"cell_cap_seconds\": {}, \"memory_method\": \"{}\"}},\n  \"experiments\": [\n",
+        machine_json(machine), o.quick ? "true" : "false", o.measure.repeat, json_number(o.measure.repeat_cap),
         o.measure.threads, json_number(o.measure.budget), json_number(o.cell_cap), memory_method());
     for (std::size_t i = 0; i < experiments.size(); ++i) {
         const Experiment& e = experiments[i];
@@ -419,7 +406,7 @@ int run_paper_benchmarks(const PaperOptions& options) {
                                  ec ? ec.message() : "not a directory");
         return 1;
     }
-    Context ctx{options, find_examples(options.examples_dir), ClassicRate{}, options.quick ? kQuickDeadline : kDeadline,
+    Context ctx{options, examples_folder(options.examples_dir), ClassicRate{}, options.quick ? kQuickDeadline : kDeadline,
                 Stopwatch{}};
     const MachineInfo machine = describe_machine();
     Stopwatch clock;

@@ -28,7 +28,7 @@ std::string pad(const std::string& s, std::size_t width) {
 }
 
 const BenchCell* find_cell(const std::vector<BenchCell>& cells, const std::string& model, const std::string& size,
-                           EngineKind engine) {
+                           BenchEngine engine) {
     for (const BenchCell& c : cells)
         if (c.model == model && grid_size_text(c.grid) == size && c.engine == engine) return &c;
     return nullptr;
@@ -80,9 +80,9 @@ std::string machine_text(const MachineInfo& m) {
 std::vector<BenchRatio> bench_ratios(const std::vector<BenchCell>& cells) {
     std::vector<BenchRatio> ratios;
     for (const BenchCell& c : cells) {
-        if (c.engine != EngineKind::Classic) continue;
+        if (c.engine != BenchEngine::Classic) continue;
         const std::string size = grid_size_text(c.grid);
-        const BenchCell* v = find_cell(cells, c.model, size, EngineKind::Voxel);
+        const BenchCell* v = find_cell(cells, c.model, size, BenchEngine::Voxel);
         if (!v || v->skipped || v->median <= 0) continue;
         if (c.skipped && c.estimated_seconds < 0) continue;
         ratios.push_back({c.model, size, (c.skipped ? c.estimated_seconds : c.median) / v->median, c.skipped});
@@ -91,23 +91,29 @@ std::vector<BenchRatio> bench_ratios(const std::vector<BenchCell>& cells) {
 }
 
 std::string bench_table(const std::vector<BenchCell>& cells) {
-    std::size_t model_width = 5;
-    for (const BenchCell& c : cells) model_width = std::max(model_width, c.model.size());
-    std::string out = pad("model", model_width) + "  engine   size          points  runs  min        median     max"
+    std::size_t model_width = 5, engine_width = 7;
+    for (const BenchCell& c : cells) {
+        model_width = std::max(model_width, c.model.size());
+        engine_width = std::max(engine_width, std::string(bench_engine_name(c.engine)).size());
+    }
+    std::string out = pad("model", model_width) + "  " + pad("engine", engine_width) +
+                      "  size          points  runs  min        median     max"
                       "        per point   ops/point     peak memory (growth)\n";
     for (const BenchCell& c : cells) {
-        out += pad(c.model, model_width) + "  " + pad(engine_name(c.engine), 7) + "  " +
+        out += pad(c.model, model_width) + "  " + pad(bench_engine_name(c.engine), engine_width) + "  " +
                pad(grid_size_text(c.grid), 12) + fmt::format("{:>8}", format_count(c.points())) + "  ";
         if (c.skipped) {
             out += fmt::format("skipped: {}; estimated {} ({} operations per point)\n", c.skip_reason,
                                seconds_text(c.estimated_seconds), format_operations(c.operations_per_point));
             continue;
         }
-        out += fmt::format("{:>4}  {}{}{}{}{}{}\n", c.seconds.size(), pad(seconds_text(c.min), 11),
+        out += fmt::format("{:>4}  {}{}{}{}{}{}{}\n", c.seconds.size(), pad(seconds_text(c.min), 11),
                            pad(seconds_text(c.median), 11), pad(seconds_text(c.max), 11),
                            pad(fmt::format("{:.1f} ns", c.seconds_per_point() * 1e9), 12),
                            pad(format_operations(c.operations_per_point), 14),
-                           fmt::format("{} (+{})", format_bytes(c.peak_rss_bytes), format_bytes(c.rss_growth_bytes)));
+                           fmt::format("{} (+{})", format_bytes(c.peak_rss_bytes), format_bytes(c.rss_growth_bytes)),
+                           c.mimages ? fmt::format("  incl. {} M-images: {}", c.mimages, seconds_text(c.mimages_median))
+                                     : "");
     }
     return out;
 }
@@ -125,6 +131,12 @@ std::string json_number(double v) {
     return fmt::format("{}", v);
 }
 
+std::string json_numbers(const std::vector<double>& values) {
+    std::string out;
+    for (double v : values) out += (out.empty() ? "" : ", ") + json_number(v);
+    return out;
+}
+
 std::string json_string(const std::string& s) {
     std::string out = "\"";
     for (unsigned char c : s) {
@@ -138,16 +150,13 @@ std::string json_string(const std::string& s) {
 
 std::string cell_json(const BenchCell& c, int indent) {
     const std::string in(indent, ' ');
-    std::string seconds;
-    for (double s : c.seconds) seconds += (seconds.empty() ? "" : ", ") + json_number(s);
-    std::string cpu;
-    for (double s : c.cpu_seconds) cpu += (cpu.empty() ? "" : ", ") + json_number(s);
+    const std::string seconds = json_numbers(c.seconds), cpu = json_numbers(c.cpu_seconds);
     std::string size = fmt::format("{}, {}", c.grid.cols(), c.grid.rows());
     if (c.grid.dims == 3) size += fmt::format(", {}", c.grid.slices());
     std::string out = fmt::format(
         "{0}{{\n{0}  \"model\": {1},\n{0}  \"engine\": \"{2}\",\n{0}  \"size\": [{3}],\n{0}  \"points\": {4},\n"
         "{0}  \"operations_per_point\": {5},\n{0}  \"status\": \"{6}\",\n",
-        in, json_string(c.model), engine_name(c.engine), size, c.points(), json_number(c.operations_per_point),
+        in, json_string(c.model), bench_engine_name(c.engine), size, c.points(), json_number(c.operations_per_point),
         c.skipped ? "skipped" : "measured");
     if (c.skipped) {
         out += fmt::format("{0}  \"skip_reason\": {1},\n{0}  \"estimated_operations\": {2},\n"
@@ -158,21 +167,30 @@ std::string cell_json(const BenchCell& c, int indent) {
         out += fmt::format("{0}  \"seconds\": [{1}],\n{0}  \"min_seconds\": {2},\n{0}  \"median_seconds\": {3},\n"
                            "{0}  \"max_seconds\": {4},\n{0}  \"seconds_per_point\": {5},\n"
                            "{0}  \"peak_rss_bytes\": {6},\n{0}  \"rss_growth_bytes\": {7},\n"
-                           "{0}  \"cpu_seconds\": [{8}],\n{0}  \"median_cpu_seconds\": {9}\n{0}}}",
+                           "{0}  \"cpu_seconds\": [{8}],\n{0}  \"median_cpu_seconds\": {9},\n{0}  \"mimages\": {10}",
                            in, seconds, json_number(c.min), json_number(c.median), json_number(c.max),
                            json_number(c.seconds_per_point()), c.peak_rss_bytes, c.rss_growth_bytes, cpu,
-                           json_number(c.cpu_median));
+                           json_number(c.cpu_median), c.mimages);
+        if (c.mimages)
+            out += fmt::format(",\n{0}  \"mimages_seconds\": [{1}],\n{0}  \"median_mimages_seconds\": {2}", in,
+                               json_numbers(c.mimages_seconds), json_number(c.mimages_median));
+        out += fmt::format("\n{}}}", in);
     }
     return out;
 }
 
+std::string machine_json(const MachineInfo& m) {
+    return fmt::format("{{\"cpu\": {}, \"cores\": {}, \"compiler\": {}, \"build\": {}, \"date\": {}}}",
+                       json_string(m.cpu), m.cores, json_string(m.compiler), json_string(m.build), json_string(m.date));
+}
+
 std::string bench_json(const std::vector<BenchCell>& cells, const MachineInfo& m, const MeasureOptions& o) {
     std::string out = fmt::format(
-        "{{\n  \"schema\": \"fortu-bench/1\",\n  \"machine\": {{\"cpu\": {}, \"cores\": {}, \"compiler\": {}, "
-        "\"build\": {}, \"date\": {}}},\n  \"options\": {{\"repeat\": {}, \"repeat_cap_seconds\": {}, "
-        "\"threads\": {}, \"budget_operations\": {}, \"memory_method\": \"{}\"}},\n  \"cells\": [\n",
-        json_string(m.cpu), m.cores, json_string(m.compiler), json_string(m.build), json_string(m.date), o.repeat,
-        json_number(o.repeat_cap), o.threads, json_number(o.budget), memory_method());
+        "{{\n  \"schema\": \"fortu-bench/1\",\n  \"machine\": {},\n  \"options\": {{\"repeat\": {}, "
+        "\"repeat_cap_seconds\": {}, \"threads\": {}, \"budget_operations\": {}, \"memory_method\": \"{}\", "
+        "\"mimages\": {}}},\n  \"cells\": [\n",
+        machine_json(m), o.repeat, json_number(o.repeat_cap), o.threads, json_number(o.budget), memory_method(),
+        o.mimages ? "true" : "false");
     for (std::size_t i = 0; i < cells.size(); ++i) out += cell_json(cells[i], 4) + (i + 1 < cells.size() ? ",\n" : "\n");
     out += "  ],\n  \"ratios\": [\n";
     const auto ratios = bench_ratios(cells);
@@ -185,7 +203,7 @@ std::string bench_json(const std::vector<BenchCell>& cells, const MachineInfo& m
 
 std::string bench_csv(const std::vector<BenchCell>& cells) {
     std::string out = "model,engine,cols,rows,slices,points,status,runs,min_s,median_s,max_s,s_per_point,"
-                      "ops_per_point,peak_rss_bytes,estimated_s\n";
+                      "ops_per_point,peak_rss_bytes,estimated_s,mimages,mimages_median_s\n";
     auto quoted = [](const std::string& s) {
         if (s.find_first_of(",\"\n") == std::string::npos) return s;
         std::string q = "\"";
@@ -193,15 +211,16 @@ std::string bench_csv(const std::vector<BenchCell>& cells) {
         return q + "\"";
     };
     for (const BenchCell& c : cells) {
-        out += fmt::format("{},{},{},{},{},{},{},", quoted(c.model), engine_name(c.engine), c.grid.cols(),
+        out += fmt::format("{},{},{},{},{},{},{},", quoted(c.model), bench_engine_name(c.engine), c.grid.cols(),
                            c.grid.rows(), c.grid.slices(), c.points(), c.skipped ? "skipped" : "measured");
         if (c.skipped)
-            out += fmt::format("0,,,,,{},,{}\n", json_number(c.operations_per_point),
+            out += fmt::format("0,,,,,{},,{},0,\n", json_number(c.operations_per_point),
                                c.estimated_seconds < 0 ? "" : json_number(c.estimated_seconds));
         else
-            out += fmt::format("{},{},{},{},{},{},{},\n", c.seconds.size(), json_number(c.min), json_number(c.median),
-                               json_number(c.max), json_number(c.seconds_per_point()),
-                               json_number(c.operations_per_point), c.peak_rss_bytes);
+            out += fmt::format("{},{},{},{},{},{},{},,{},{}\n", c.seconds.size(), json_number(c.min),
+                               json_number(c.median), json_number(c.max), json_number(c.seconds_per_point()),
+                               json_number(c.operations_per_point), c.peak_rss_bytes, c.mimages,
+                               c.mimages ? json_number(c.mimages_median) : "");
     }
     return out;
 }

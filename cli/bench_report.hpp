@@ -46,6 +46,10 @@ std::string cell_json(const BenchCell& cell, int indent);
 /// A JSON number; null for non-finite values.
 std::string json_number(double v);
 std::string json_string(const std::string& s);
+/// Comma-separated JSON numbers (without the brackets).
+std::string json_numbers(const std::vector<double>& values);
+/// The "machine" object every bench document carries.
+std::string machine_json(const MachineInfo& machine);
 /// The whole `fortu bench MODEL...` document.
 std::string bench_json(const std::vector<BenchCell>& cells, const MachineInfo& machine, const MeasureOptions& options);
 /// Header line plus one row per cell.

@@ -1,6 +1,7 @@
 // tests/unit/cli_bench_test.cpp — `fortu bench` end to end: usage errors (exit 2), the JSON
 // and CSV documents' structure, an over-budget classic cell kept as skipped with its
-// estimate, and the plot. No assertion looks at how long anything took.
+// estimate, the plot, the float32 / sign / M-image variants, and `--performance` without its
+// data. No assertion looks at how long anything took.
 #include "cli_support.hpp"
 #include "test_support.hpp"
 
@@ -41,9 +42,9 @@ TEST_CASE("fortu bench: usage errors exit 2 before any work") {
     TempDir t;
     const std::string m = quote(t.write("and.fortu", kAnd));
     CHECK(run_fortu("bench").status == 2);
-    CHECK(run_fortu("bench").out == "fortu: error: 'fortu bench': give at least one MODEL, or --paper\n");
+    CHECK(run_fortu("bench").out == "fortu: error: 'fortu bench': give at least one MODEL, or --paper, or --performance\n");
     CHECK(run_fortu("bench " + m + " --engines classic,gpu").out ==
-          "fortu: error: --engines: unknown engine 'gpu' (classic, voxel)\n");
+          "fortu: error: --engines: unknown engine 'gpu' (classic, voxel, voxel-f32, sign)\n");
     CHECK(run_fortu("bench " + m + " --sizes 100,1").out == "fortu: error: --sizes: '1' is not an integer in 2..20000\n");
     CHECK(run_fortu("bench " + m + " --sizes 10,").out == "fortu: error: --sizes: '' is not an integer in 2..20000\n");
     CHECK(run_fortu("bench " + m + " --repeat 0").out == "fortu: error: --repeat: '0' is not an integer in 1..1000\n");
@@ -55,7 +56,8 @@ TEST_CASE("fortu bench: usage errors exit 2 before any work") {
           "fortu: error: --plot: 'out.png' must end in .svg (fortu writes SVG plots)\n");
     CHECK(run_fortu("bench " + m + " --json").out == "fortu: error: 'fortu bench': --json needs a value\n");
     CHECK(run_fortu("bench " + m + " --frobnicate").out == "fortu: error: 'fortu bench': unknown option '--frobnicate'\n");
-    CHECK(run_fortu("bench " + m + " --quick").out == "fortu: error: 'fortu bench': --quick, --out and --examples go with --paper\n");
+    CHECK(run_fortu("bench " + m + " --quick").out ==
+          "fortu: error: 'fortu bench': --quick, --out and --examples go with --paper or --performance\n");
     CHECK(run_fortu("bench --paper " + m).out ==
           "fortu: error: 'fortu bench --paper' runs the papers' models; give no MODEL with it\n");
     CHECK(run_fortu("bench --paper --sizes 100").out ==
@@ -124,6 +126,9 @@ TEST_CASE("fortu bench: JSON and CSV documents have the documented structure") {
     CHECK(count(json, "\"peak_rss_bytes\": ") == 3);
     CHECK(count(json, "\"cpu_seconds\": [") == 3);
     CHECK(count(json, "\"median_cpu_seconds\": ") == 3);
+    CHECK(count(json, "\"mimages\": 0\n") == 3);   // measured cells; --mimages not given
+    CHECK(json.find("\"mimages\": false}") != std::string::npos);
+    CHECK(json.find("mimages_seconds") == std::string::npos);
     CHECK(count(json, "\"estimated\": false}") == 1);
     CHECK(count(json, "\"estimated\": true}") == 1);
     CHECK(json.substr(json.size() - 6) == "  ]\n}\n");
@@ -131,11 +136,13 @@ TEST_CASE("fortu bench: JSON and CSV documents have the documented structure") {
     const auto csv = lines_of(t.read("b.csv"));
     REQUIRE(csv.size() == 5);
     CHECK(csv[0] == "model,engine,cols,rows,slices,points,status,runs,min_s,median_s,max_s,s_per_point,"
-                    "ops_per_point,peak_rss_bytes,estimated_s");
+                    "ops_per_point,peak_rss_bytes,estimated_s,mimages,mimages_median_s");
     CHECK(csv[1].rfind(m + ",classic,8,8,1,64,measured,2,", 0) == 0);
     CHECK(csv[3].rfind(m + ",classic,12,12,1,144,skipped,0,,,,,10,,", 0) == 0);
+    CHECK(csv[3].ends_with(",0,"));   // no M-images, no M-image time
     CHECK(csv[4].rfind(m + ",voxel,12,12,1,144,measured,2,", 0) == 0);
-    for (const std::string& row : csv) CHECK(count(row, ",") == 14);
+    CHECK(csv[4].ends_with(",,0,"));   // no estimate, no M-images
+    for (const std::string& row : csv) CHECK(count(row, ",") == 16);
 
     const std::string svg = t.read("b.svg");
     CHECK(svg.rfind("<?xml", 0) == 0);
@@ -154,4 +161,109 @@ TEST_CASE("fortu bench: an unwritable output is an error and leaves nothing behi
     CHECK(r.status == 1);
     CHECK(r.out.find("fortu: error: ") != std::string::npos);
     CHECK(!std::filesystem::exists(t.path / "no"));
+}
+
+TEST_CASE("fortu bench: the variants' and the suites' options") {
+    TempDir t;
+    const std::string m = quote(t.write("and.fortu", kAnd));
+    auto error = [](const std::string& args) {
+        const auto r = run_fortu("bench " + args);
+        CHECK(r.status == 2);
+        return r.out;
+    };
+    CHECK(error(m + " --data /tmp") == "fortu: error: 'fortu bench': --data goes with --performance\n");
+    CHECK(error("--paper --data /tmp") == "fortu: error: 'fortu bench': --data goes with --performance\n");
+    CHECK(error("--paper --performance") ==
+          "fortu: error: 'fortu bench': --paper and --performance are two runs; give one\n");
+    CHECK(error("--performance " + m) ==
+          "fortu: error: 'fortu bench --performance' runs issue 5's models; give no MODEL with it\n");
+    CHECK(error("--performance --sizes 100") ==
+          "fortu: error: 'fortu bench --performance' chooses its own sizes and writes its files to --out DIR\n");
+    CHECK(error("--performance --json x.json") ==
+          "fortu: error: 'fortu bench --performance' chooses its own sizes and writes its files to --out DIR\n");
+    CHECK(error("--performance --engines sign") ==
+          "fortu: error: 'fortu bench --performance' chooses what it times; --engines and --mimages go with MODEL...\n");
+    CHECK(error("--paper --mimages") ==
+          "fortu: error: 'fortu bench --paper' chooses what it times; --engines and --mimages go with MODEL...\n");
+    CHECK(error("--performance --out ''") == "fortu: error: --out: give a folder name\n");
+    CHECK(error("--performance --data") == "fortu: error: 'fortu bench': --data needs a value\n");
+    CHECK(error(m + " --engines voxel-f64") ==
+          "fortu: error: --engines: unknown engine 'voxel-f64' (classic, voxel, voxel-f32, sign)\n");
+    const auto help = run_fortu("bench --help", ".", true);
+    CHECK(help.out.find("  fortu bench --performance [--quick] [--data DIR]") != std::string::npos);
+    CHECK(help.out.find("  --mimages ") != std::string::npos);
+}
+
+TEST_CASE("fortu bench: float32, sign and M-image cells in the JSON, CSV and table") {
+    TempDir t;
+    const std::string m = std::string(FORTU_SOURCE_DIR) + "/examples/s1_fig3a_floz.fortu";
+    const auto r = run_fortu("bench " + quote(m) + " --engines voxel-f32,sign --mimages --sizes 16 --repeat 2 --json " +
+                                 quote((t.path / "b.json").string()) + " --csv " + quote((t.path / "b.csv").string()),
+                             ".", true);
+    REQUIRE(r.status == 0);
+    const auto lines = lines_of(r.out);
+    REQUIRE(lines.size() == 3);   // header and two cells; no classic/voxel ratio
+    CHECK(lines[0].starts_with("model"));
+    CHECK(lines[1].starts_with(m + "  voxel-f32  16x16            256     2  "));
+    CHECK(lines[1].find("  incl. 4 M-images: ") != std::string::npos);
+    CHECK(lines[2].starts_with(m + "  sign       16x16            256     2  "));
+    CHECK(lines[2].find("M-images") == std::string::npos);
+
+    const std::string json = t.read("b.json");
+    CHECK(json.find("\"memory_method\": ") != std::string::npos);
+    CHECK(json.find("\"mimages\": true}") != std::string::npos);
+    CHECK(count(json, "\"engine\": ") == 2);
+    const auto f32 = json.find("      \"engine\": \"voxel-f32\",\n      \"size\": [16, 16],\n      \"points\": 256,\n"
+                               "      \"operations_per_point\": 293,\n      \"status\": \"measured\",\n");
+    const auto sign = json.find("      \"engine\": \"sign\",\n      \"size\": [16, 16],\n      \"points\": 256,\n"
+                                "      \"operations_per_point\": 293,\n      \"status\": \"measured\",\n");
+    REQUIRE(f32 != std::string::npos);
+    REQUIRE(sign != std::string::npos);
+    CHECK(f32 < sign);   // in the order of --engines
+    const std::string f32_cell = json.substr(f32, sign - f32), sign_cell = json.substr(sign);
+    CHECK(f32_cell.find("\"mimages\": 4,\n      \"mimages_seconds\": [") != std::string::npos);
+    CHECK(count(f32_cell, "\"median_mimages_seconds\": ") == 1);
+    const auto runs = f32_cell.find("\"mimages_seconds\": [");
+    CHECK(count(f32_cell.substr(runs, f32_cell.find(']', runs) - runs), ",") == 1);   // one per run
+    CHECK(sign_cell.find("\"mimages\": 0\n") != std::string::npos);   // a sign image has no M-images
+    CHECK(sign_cell.find("mimages_seconds") == std::string::npos);
+    CHECK(json.find("  \"ratios\": [\n  ]\n}\n") != std::string::npos);
+
+    const auto csv = lines_of(t.read("b.csv"));
+    REQUIRE(csv.size() == 3);
+    CHECK(csv[1].rfind(m + ",voxel-f32,16,16,1,256,measured,2,", 0) == 0);
+    CHECK(csv[1].find(",,4,") != std::string::npos);
+    CHECK(csv[2].rfind(m + ",sign,16,16,1,256,measured,2,", 0) == 0);
+    CHECK(csv[2].ends_with(",,0,"));
+}
+
+TEST_CASE("fortu bench --performance: without prospero.vm its rows say Not run, the others run, exit 1") {
+    TempDir t;
+    std::filesystem::create_directories(t.path / "empty");
+    const std::string empty = (t.path / "empty").string();
+    const auto r = run_fortu("bench --performance --quick --repeat 1 --data " + quote(empty) + " --out " +
+                                 quote((t.path / "perf").string()),
+                             ".", true);
+    CHECK(r.status == 1);
+    CHECK(r.out.find("fortu: error: prospero.vm not found in " + empty + "; give --data DIR") != std::string::npos);
+    const std::string md = t.read("perf/results.md");
+    CHECK(md.starts_with("# fortu bench --performance --quick\n"));
+    CHECK(r.out.find(md) != std::string::npos);   // printed as written
+    CHECK(count(md, "| Not run: prospero.vm not found in " + empty + " |") == 3);
+    CHECK(md.find("| prospero.vm 128² sign image | Not run: ") != std::string::npos);
+    CHECK(md.find("| 64-segment FLOZ (floz64.vm) 100² full field, float32 | ") != std::string::npos);
+    CHECK(md.find("| S1 Fig. 3a FLOZ contour 100² field and its four M-images, float32 | ") != std::string::npos);
+    CHECK(md.find(" (M-images ") != std::string::npos);
+    CHECK(count(md, "(not comparable: --quick)") == 3);   // measured rows with a target
+    CHECK(count(md, "\n| ") == 9);   // the header and eight rows
+
+    const std::string json = t.read("perf/results.json");
+    CHECK(json.starts_with("{\n  \"schema\": \"fortu-bench-performance/1\",\n  \"machine\": {\"cpu\": "));
+    CHECK(json.find("\"options\": {\"quick\": true, \"repeat\": 1, ") != std::string::npos);
+    CHECK(json.find("\"data_dir\": " + std::string("\"") + empty + "\"}") != std::string::npos);
+    CHECK(count(json, "\"status\": \"not run\",\n      \"met\": null,\n      \"reason\": \"prospero.vm not found in ") == 3);
+    CHECK(count(json, "\"cell\": null") == 3);
+    CHECK(count(json, "\"status\": \"measured\",\n      \"met\": null,\n      \"reason\": null,\n      \"cell\": {") == 5);
+    CHECK(count(json, "\"mimages\": true,") == 2);
+    CHECK(count(json, "\"median_mimages_seconds\": ") == 2);
 }

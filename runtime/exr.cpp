@@ -6,6 +6,7 @@
 #include "runtime/oiio_util.hpp"
 #include "runtime/output_error.hpp"
 #include "runtime/output_path.hpp"
+#include "runtime/parallel.hpp"
 
 #include "runtime/image_io.hpp"
 #include <fmt/format.h>
@@ -38,14 +39,21 @@ ImageLayer slice_layer(const Grid& g, int slice, const std::vector<float>& pixel
 std::vector<float> slice_pixels(const Field& field, int slice) {
     const Grid& g = field.grid;
     const int k = g.dims == 3 ? 5 : 4;
-    std::vector<float> pixels(static_cast<std::size_t>(g.cols()) * g.rows() * (k + 1));
-    float* p = pixels.data();
-    for (int r = 0; r < g.rows(); ++r)
+    const std::size_t row_floats = static_cast<std::size_t>(g.cols()) * (k + 1);
+    std::vector<float> pixels(row_floats * g.rows());
+    const FvStencil stencil(g);
+    std::vector<std::vector<double>> scratch(static_cast<std::size_t>(worker_count(g.rows(), 0)),
+                                             std::vector<double>(static_cast<std::size_t>(k) * g.cols()));
+    parallel_for(static_cast<std::size_t>(g.rows()), 0, nullptr, [&](std::size_t r, int worker) {
+        double* n[5];
+        for (int j = 0; j < k; ++j) n[j] = scratch[worker].data() + static_cast<std::size_t>(j) * g.cols();
+        stencil.row(field, static_cast<int>(r), slice, n);
+        float* p = pixels.data() + r * row_floats;
         for (int c = 0; c < g.cols(); ++c) {
-            *p++ = static_cast<float>(field.values[g.index(c, r, slice)]);
-            const auto n = fv_node(field, c, r, slice);
-            for (int j = 0; j < k; ++j) *p++ = static_cast<float>(n[j]);
+            *p++ = static_cast<float>(field.values[g.index(c, static_cast<int>(r), slice)]);
+            for (int j = 0; j < k; ++j) *p++ = static_cast<float>(n[j][c]);
         }
+    });
     return pixels;
 }
 

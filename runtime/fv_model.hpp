@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cstddef>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -42,6 +43,21 @@ double local_value(std::span<const double> n, double x, double y, double z = 0.0
 /// any stencil value is not finite (an invalid point).
 std::array<double, 5> fv_node(const Field& field, int col, int row, int slice = 0);
 
+/// fv_node() for whole rows: the coordinates, neighbours and steps of every axis computed
+/// once, so a node costs its plane alone. What FvModel and the M-image writers use.
+class FvStencil {
+public:
+    explicit FvStencil(const Grid& grid);
+    /// The components of every node of one row: n_k of column c into out[k-1][c]
+    /// (k = 1..4 in 2D, 1..5 in 3D). `field` is on the grid given to the constructor.
+    void row(const Field& field, int row, int slice, double* const* out) const;
+
+private:
+    Grid grid_;
+    std::vector<double> coord_[3], step_[3];
+    std::vector<int> next_[3];
+};
+
 /// The FV model of a whole Field. Components are stored as double, one contiguous array per
 /// component (one array = one M-image before palette encoding): fv-method.md §1.1 item 7
 /// recommends float or double internally, and double keeps the local function exact at the
@@ -49,6 +65,7 @@ std::array<double, 5> fv_node(const Field& field, int col, int row, int slice = 
 /// writers that stream large 3D grids call fv_node() per slice instead.
 class FvModel {
 public:
+    /// Computed on all cores, a row per work item.
     explicit FvModel(const Field& field);
 
     const Grid& grid() const { return grid_; }
@@ -67,7 +84,7 @@ public:
 
 private:
     Grid grid_;
-    std::vector<double> data_;   ///< components() arrays of nodes() values
+    std::unique_ptr<double[]> data_;   ///< components() arrays of nodes() values
 };
 
 }  // namespace fortu

@@ -10,6 +10,7 @@
 #include "runtime/output_error.hpp"
 #include "runtime/output_path.hpp"
 #include "runtime/palette.hpp"
+#include "runtime/parallel.hpp"
 #include "runtime/picture.hpp"
 
 #include <fmt/format.h>
@@ -47,22 +48,29 @@ void check_field(const Field& field, const std::string& path) {
 std::vector<std::vector<std::uint8_t>> mimage_pixels(const Field& field, int slice, Palette palette) {
     const Grid& g = field.grid;
     const int components = g.dims == 3 ? 5 : 4;
-    const std::size_t bytes = static_cast<std::size_t>(g.cols()) * g.rows() * (palette == Palette::Grey8 ? 1 : 3);
-    std::vector<std::vector<std::uint8_t>> images(components);
-    for (auto& image : images) image.reserve(bytes);
-    for (int r = 0; r < g.rows(); ++r)
-        for (int c = 0; c < g.cols(); ++c) {
-            const auto n = fv_node(field, c, r, slice);
-            for (int k = 0; k < components; ++k) {
-                const std::uint32_t m = palette_encode(n[k], palette);
+    const std::size_t channels = palette == Palette::Grey8 ? 1 : 3;
+    const std::size_t row_bytes = static_cast<std::size_t>(g.cols()) * channels;
+    std::vector<std::vector<std::uint8_t>> images(components, std::vector<std::uint8_t>(row_bytes * g.rows()));
+    const FvStencil stencil(g);
+    std::vector<std::vector<double>> scratch(static_cast<std::size_t>(worker_count(g.rows(), 0)),
+                                             std::vector<double>(static_cast<std::size_t>(components) * g.cols()));
+    parallel_for(static_cast<std::size_t>(g.rows()), 0, nullptr, [&](std::size_t r, int worker) {
+        double* out[5];
+        for (int k = 0; k < components; ++k) out[k] = scratch[worker].data() + static_cast<std::size_t>(k) * g.cols();
+        stencil.row(field, static_cast<int>(r), slice, out);
+        for (int k = 0; k < components; ++k) {
+            std::uint8_t* pixel = images[k].data() + r * row_bytes;
+            for (int c = 0; c < g.cols(); ++c) {
+                const std::uint32_t m = palette_encode(out[k][c], palette);
                 if (palette == Palette::Grey8) {
-                    images[k].push_back(static_cast<std::uint8_t>(m));
+                    *pixel++ = static_cast<std::uint8_t>(m);
                 } else {
                     const auto rgb = rgb24_pack(m);
-                    images[k].insert(images[k].end(), rgb.begin(), rgb.end());
+                    pixel = std::copy(rgb.begin(), rgb.end(), pixel);
                 }
             }
         }
+    });
     return images;
 }
 

@@ -192,3 +192,37 @@ TEST_CASE("local_value dispatches on the number of components") {
     CHECK(local_value(plane, 5.0, 6.0) == 2.0);
     CHECK(local_value(hyperplane, 1.0, 2.0, 3.0) == -0.5);
 }
+
+TEST_CASE("fv_node's axis-aligned cross product is formula 1.1.3's plane (§1.2's hyperplane in 3D)") {
+    const auto f2 = [](double x, double y) { return std::sin(3 * x) * std::exp(y) - 0.3 * x * y + 1e-3; };
+    const Field field = sample2(23, 17, {-2.0, 1.5}, {-1.0, 3.0}, f2);
+    const Grid& g = field.grid;
+    double worst = 0.0;
+    for (int r = 0; r < g.rows(); ++r)
+        for (int c = 0; c < g.cols(); ++c) {
+            const int cx = forward_or_back(c, +1, g.cols()), ry = forward_or_back(r, -1, g.rows());
+            const auto expected = fv_plane({g.x_at(c), g.y_at(r), field.values[g.index(c, r)]},
+                                           {g.x_at(cx), g.y_at(r), field.values[g.index(cx, r)]},
+                                           {g.x_at(c), g.y_at(ry), field.values[g.index(c, ry)]});
+            const auto n = fv_node(field, c, r);
+            for (int k = 0; k < 4; ++k) worst = std::max(worst, std::abs(n[k] - expected[k]));
+        }
+    CHECK(worst < 1e-14);
+    const auto f3 = [](double x, double y, double z) { return std::cos(x * y) - z * z * 0.7 + x; };
+    const Field field3 = sample3(5, f3);
+    const Grid& h = field3.grid;
+    worst = 0.0;
+    for (int s = 0; s < h.slices(); ++s)
+        for (int r = 0; r < h.rows(); ++r)
+            for (int c = 0; c < h.cols(); ++c) {
+                const int cx = forward_or_back(c, +1, h.cols()), ry = forward_or_back(r, -1, h.rows()),
+                          sz = forward_or_back(s, +1, h.slices());
+                auto p = [&](int cc, int rr, int ss) {
+                    return std::array<double, 4>{h.x_at(cc), h.y_at(rr), h.z_at(ss), field3.values[h.index(cc, rr, ss)]};
+                };
+                const auto expected = fv_hyperplane(p(c, r, s), p(cx, r, s), p(c, ry, s), p(c, r, sz));
+                const auto n = fv_node(field3, c, r, s);
+                for (int k = 0; k < 5; ++k) worst = std::max(worst, std::abs(n[k] - expected[k]));
+            }
+    CHECK(worst < 1e-14);
+}

@@ -148,11 +148,17 @@ void run_pass(const Pass<T>& pass, const Tiling& tiling, const EvalOptions& opti
     const std::size_t plane = static_cast<std::size_t>(grid.cols()) * grid.rows();
     const std::size_t tiles = tiling.count();
 
+    // Slots of column inputs point into the column values: they need no tile memory
+    // (prospero.vm has ~1000 of them).
+    std::vector<char> borrowed(tape.slot_count, 0);
+    for (auto [slot, which] : tape.inputs) borrowed[slot] = pass.inputs[which].per_column != nullptr;
+    const std::size_t own_slots = static_cast<std::size_t>(std::count(borrowed.begin(), borrowed.end(), 0));
     std::vector<Workspace<T>> workspaces(worker_count(tiles, options));
     for (Workspace<T>& ws : workspaces) {
-        ws.storage.assign(static_cast<std::size_t>(tape.slot_count) * kTileSize, T(0));
-        ws.slots.resize(tape.slot_count);
-        for (uint32_t s = 0; s < tape.slot_count; ++s) ws.slots[s] = ws.storage.data() + static_cast<std::size_t>(s) * kTileSize;
+        ws.storage.assign(own_slots * kTileSize, T(0));
+        ws.slots.assign(tape.slot_count, nullptr);
+        for (uint32_t s = 0, next = 0; s < tape.slot_count; ++s)
+            if (!borrowed[s]) ws.slots[s] = ws.storage.data() + static_cast<std::size_t>(next++) * kTileSize;
         for (auto [slot, value] : tape.constants) std::fill_n(ws.slots[slot], kTileSize, T(value));
         if (!tape.uniform_uses.empty()) ws.code = tape.code;
     }
@@ -174,7 +180,7 @@ void run_pass(const Pass<T>& pass, const Tiling& tiling, const EvalOptions& opti
             if (source.per_column) {
                 ws.slots[slot] = const_cast<T*>(source.per_column + tile.first_col);
             } else {
-                T* lane_values = ws.storage.data() + static_cast<std::size_t>(slot) * kTileSize;
+                T* lane_values = ws.slots[slot];
                 for (int l = 0; l < tile.lanes; ++l) lane_values[l] = T(source.per_point[tile.first_point + l]);
             }
         }

@@ -6,7 +6,6 @@
 #include "runtime/oiio_util.hpp"
 #include "runtime/output_error.hpp"
 #include "runtime/output_path.hpp"
-#include "runtime/parallel.hpp"
 
 #include "runtime/image_io.hpp"
 #include <fmt/format.h>
@@ -41,13 +40,7 @@ std::vector<float> slice_pixels(const Field& field, int slice) {
     const int k = g.dims == 3 ? 5 : 4;
     const std::size_t row_floats = static_cast<std::size_t>(g.cols()) * (k + 1);
     std::vector<float> pixels(row_floats * g.rows());
-    const FvStencil stencil(g);
-    std::vector<std::vector<double>> scratch(static_cast<std::size_t>(worker_count(g.rows(), 0)),
-                                             std::vector<double>(static_cast<std::size_t>(k) * g.cols()));
-    parallel_for(static_cast<std::size_t>(g.rows()), 0, nullptr, [&](std::size_t r, int worker) {
-        double* n[5];
-        for (int j = 0; j < k; ++j) n[j] = scratch[worker].data() + static_cast<std::size_t>(j) * g.cols();
-        stencil.row(field, static_cast<int>(r), slice, n);
+    for_each_fv_row(field, slice, [&](std::size_t r, const double* const* n) {
         float* p = pixels.data() + r * row_floats;
         for (int c = 0; c < g.cols(); ++c) {
             *p++ = static_cast<float>(field.values[g.index(c, static_cast<int>(r), slice)]);

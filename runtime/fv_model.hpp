@@ -5,6 +5,7 @@
 
 #include "runtime/field.hpp"
 #include "runtime/grid.hpp"
+#include "runtime/parallel.hpp"
 
 #include <array>
 #include <cstddef>
@@ -57,6 +58,25 @@ private:
     std::vector<double> coord_[3], step_[3];
     std::vector<int> next_[3];
 };
+
+/// The components of every row of one slice, computed on all cores: visit(row, n) gets
+/// n[k][c] = n_{k+1} of column c, valid during the call (per-thread scratch). What the
+/// M-image writers stream from.
+template <class Visit>
+void for_each_fv_row(const Field& field, int slice, Visit&& visit) {
+    const Grid& g = field.grid;
+    const std::size_t components = g.dims == 3 ? 5 : 4, cols = static_cast<std::size_t>(g.cols());
+    const std::size_t rows = static_cast<std::size_t>(g.rows());
+    const FvStencil stencil(g);
+    std::vector<std::vector<double>> scratch(static_cast<std::size_t>(worker_count(rows, 0)),
+                                             std::vector<double>(components * cols));
+    parallel_for(rows, 0, nullptr, [&](std::size_t r, int worker) {
+        double* n[5];
+        for (std::size_t k = 0; k < components; ++k) n[k] = scratch[worker].data() + k * cols;
+        stencil.row(field, static_cast<int>(r), slice, n);
+        visit(r, static_cast<const double* const*>(n));
+    });
+}
 
 /// The FV model of a whole Field. Components are stored as double, one contiguous array per
 /// component (one array = one M-image before palette encoding): fv-method.md §1.1 item 7

@@ -10,7 +10,6 @@
 #include "runtime/output_error.hpp"
 #include "runtime/output_path.hpp"
 #include "runtime/palette.hpp"
-#include "runtime/parallel.hpp"
 #include "runtime/picture.hpp"
 
 #include <fmt/format.h>
@@ -51,17 +50,11 @@ std::vector<std::vector<std::uint8_t>> mimage_pixels(const Field& field, int sli
     const std::size_t channels = palette == Palette::Grey8 ? 1 : 3;
     const std::size_t row_bytes = static_cast<std::size_t>(g.cols()) * channels;
     std::vector<std::vector<std::uint8_t>> images(components, std::vector<std::uint8_t>(row_bytes * g.rows()));
-    const FvStencil stencil(g);
-    std::vector<std::vector<double>> scratch(static_cast<std::size_t>(worker_count(g.rows(), 0)),
-                                             std::vector<double>(static_cast<std::size_t>(components) * g.cols()));
-    parallel_for(static_cast<std::size_t>(g.rows()), 0, nullptr, [&](std::size_t r, int worker) {
-        double* out[5];
-        for (int k = 0; k < components; ++k) out[k] = scratch[worker].data() + static_cast<std::size_t>(k) * g.cols();
-        stencil.row(field, static_cast<int>(r), slice, out);
+    for_each_fv_row(field, slice, [&](std::size_t r, const double* const* n) {
         for (int k = 0; k < components; ++k) {
             std::uint8_t* pixel = images[k].data() + r * row_bytes;
             for (int c = 0; c < g.cols(); ++c) {
-                const std::uint32_t m = palette_encode(out[k][c], palette);
+                const std::uint32_t m = palette_encode(n[k][c], palette);
                 if (palette == Palette::Grey8) {
                     *pixel++ = static_cast<std::uint8_t>(m);
                 } else {

@@ -423,17 +423,15 @@ int run_paper_benchmarks(const PaperOptions& options) {
         std::cerr << fmt::format("fortu: error: {}\n", e.what());
         return 1;
     }
-    const int threads = options.measure.threads > 0 ? options.measure.threads : machine.cores;
     std::string md = fmt::format(
         "# fortu bench --paper{}\n\n"
-        "Machine: {}. Threads per run: {}. Run at {} in {}.\n\n"
+        "{}.\n\n"
         "Times are medians of up to {} runs per cell (a cell stops repeating once its runs took {}; E3's "
         "voxel cells take {}). The machine may be shared, so single runs are noisy; medians and fits are what "
         "to compare. Peak memory per cell by {}.\n",
-        options.quick ? " --quick" : "", machine_text(machine), threads, machine.date,
-        format_duration(clock.seconds()), options.measure.repeat, format_duration(options.measure.repeat_cap),
-        std::max(options.measure.repeat, kVoxelStepRepeats), memory_method() == std::string("clear_refs") ? "resetting the kernel's peak-RSS mark (clear_refs) before it"
-                                                      : "the process's ru_maxrss");
+        options.quick ? " --quick" : "", run_text(machine, options.measure.threads, clock.seconds()),
+        options.measure.repeat, format_duration(options.measure.repeat_cap),
+        std::max(options.measure.repeat, kVoxelStepRepeats), memory_method_text());
     for (const Experiment& e : experiments) md += fmt::format("\n## {}: {}\n\n{}", e.id, e.title, e.markdown);
     const std::filesystem::path dir(options.out_dir);
     try {

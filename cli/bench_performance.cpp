@@ -197,19 +197,17 @@ int run_performance_benchmarks(const PerformanceOptions& options) {
     }
     const bool all_ran = std::all_of(rows.begin(), rows.end(), [](const RowResult& r) { return r.cell.has_value(); });
 
-    const int threads = options.measure.threads > 0 ? options.measure.threads : machine.cores;
     std::string md = fmt::format(
         "# fortu bench --performance{}\n\n"
-        "Machine: {}. Threads per run: {}. Run at {} in {}; load average {} before it.\n\n"
+        "{}; load average {} before it.\n\n"
         "Each time is the median of {} runs of the evaluation alone, as `fortu run` makes it (no file writing): "
         "`--sign-only`'s interval-pruned renderer for a sign image, the voxel engine for a full field "
         "(`--precision float32` or float64); the M-image rows add the FV model's normalised components n1..n4 "
         "(what `--mimages` encodes and writes). Peak memory: the process's peak RSS during the cell (+ what the "
         "cell added), by {}. Models: prospero.vm from {}; floz64.vm = `/usr/bin/python3 ../shared/peers/gen_floz.py "
         "floz64.vm --k 64`, committed as bench/models/floz64.vm; examples/s1_fig3a_floz.fortu.{}\n\n",
-        options.quick ? " --quick" : "", machine_text(machine), threads, machine.date, format_duration(clock.seconds()),
-        load,
-        options.measure.repeat, memory_method(), data,
+        options.quick ? " --quick" : "", run_text(machine, options.measure.threads, clock.seconds()), load,
+        options.measure.repeat, memory_method_text(), data,
         options.quick ? " --quick: small grids, not comparable with the targets." : "");
     md += rows_markdown(rows, options.quick);
     const std::string json = fmt::format(

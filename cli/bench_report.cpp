@@ -77,6 +77,16 @@ std::string machine_text(const MachineInfo& m) {
     return fmt::format("{}, {} core{}, {}, {} build", m.cpu, m.cores, m.cores == 1 ? "" : "s", m.compiler, m.build);
 }
 
+std::string run_text(const MachineInfo& m, int threads, double seconds) {
+    return fmt::format("Machine: {}. Threads per run: {}. Run at {} in {}", machine_text(m),
+                       threads > 0 ? threads : m.cores, m.date, format_duration(seconds));
+}
+
+std::string memory_method_text() {
+    return memory_method() == std::string("clear_refs") ? "resetting the kernel's peak-RSS mark (clear_refs) before it"
+                                                        : "the process's ru_maxrss";
+}
+
 std::vector<BenchRatio> bench_ratios(const std::vector<BenchCell>& cells) {
     std::vector<BenchRatio> ratios;
     for (const BenchCell& c : cells) {

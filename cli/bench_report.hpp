@@ -21,6 +21,11 @@ struct MachineInfo {
 };
 MachineInfo describe_machine();
 std::string machine_text(const MachineInfo& machine);
+/// The line every report opens with: "Machine: .... Threads per run: N. Run at DATE in TIME"
+/// (no final full stop); `threads` as given on the command line (0: all cores).
+std::string run_text(const MachineInfo& machine, int threads, double seconds);
+/// How each cell's peak memory was measured, in words for the reports.
+std::string memory_method_text();
 
 /// A duration as the papers quote it (format_duration), or "1.2e+25 years" beyond a year —
 /// the estimates of skipped classic cells reach far past what format_duration spells out.

@@ -35,17 +35,20 @@ std::vector<float> pixels(const std::string& path) {
     return image->pixels;
 }
 
+/// The model both scripted sessions start from: a disc or a bar, on a 64×48 grid.
+constexpr const char* kDiscOrBar =
+    "ARGUMENT X, Y\n"
+    "CONSTANT R = 0.5\n"
+    "VARIABLE D = R - SQRT(X^2 + Y^2)\n"
+    "VARIABLE B = 0.3 - ABS(X - 0.5)\n"
+    "RETURN D | B\n"
+    ":size 64 48\n";
+
 }  // namespace
 
 TEST_CASE("a scripted session: built in steps, probed, changed, saved; fortu run gives the same image") {
     SessionDir d;
-    const auto r = d.repl(
-        "ARGUMENT X, Y\n"
-        "CONSTANT R = 0.5\n"
-        "VARIABLE D = R - SQRT(X^2 + Y^2)\n"
-        "VARIABLE B = 0.3 - ABS(X - 0.5)\n"
-        "RETURN D | B\n"
-        ":size 64 48\n"
+    const auto r = d.repl(std::string(kDiscOrBar) +
         ":eval 0.25 0\n"
         "D\n"
         ":render before.png\n"
@@ -98,13 +101,7 @@ TEST_CASE("a scripted session: built in steps, probed, changed, saved; fortu run
 
 TEST_CASE(":time says what the last evaluation computed and which definitions' values it reused") {
     SessionDir d;
-    const auto r = d.repl(
-        "ARGUMENT X, Y\n"
-        "CONSTANT R = 0.5\n"
-        "VARIABLE D = R - SQRT(X^2 + Y^2)\n"
-        "VARIABLE B = 0.3 - ABS(X - 0.5)\n"
-        "RETURN D | B\n"
-        ":size 64 48\n"
+    const auto r = d.repl(std::string(kDiscOrBar) +
         ":render a.png\n"
         "R = 0.3\n"
         ":render b.png\n"

@@ -4,6 +4,7 @@
 #include "interp/classic_cost.hpp"
 #include "interp/engine.hpp"
 #include "interp/hoist.hpp"
+#include "interp/voxel_engine.hpp"
 #include "runtime/resources.hpp"
 
 #include <fmt/format.h>
@@ -29,8 +30,8 @@ std::vector<int> use_counts(const ir::Graph& graph, const std::vector<ir::NodeId
 
 std::string hoisted_text(const IrStats& s) {
     if (s.hoisted_operations == 0) return "";
-    return fmt::format(" ({} of them once per grid column or row on a grid of 64+ columns)",
-                       format_operations(static_cast<double>(s.hoisted_operations)));
+    return fmt::format(" ({} of them once per grid column or row on a grid of {}+ columns)",
+                       format_operations(static_cast<double>(s.hoisted_operations)), kMinHoistColumns);
 }
 
 IrStats ir_stats(const Model& model) {

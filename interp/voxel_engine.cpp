@@ -215,9 +215,6 @@ std::vector<std::vector<T>> evaluate_nodes(const Graph& graph, const std::vector
     return values;
 }
 
-/// Rows narrower than this are evaluated in flat tiles, without hoisting: a tile per row
-/// would leave most of each vector loop's length unused.
-constexpr int kMinRowTileLanes = 64;
 /// Memory for the values of hoisted nodes, per kind (column, row): past it that kind is
 /// not hoisted (e.g. thousands of Y-only nodes on a 512³ grid's 262,144 rows).
 constexpr std::size_t kMaxHoistedBytes = std::size_t{64} << 20;
@@ -240,7 +237,7 @@ void evaluate(const Graph& graph, NodeId root, Field& field, const EvalOptions& 
     Tiling tiling = Tiling::flat(grid.points());
     std::vector<std::vector<T>> column_values, row_values;
     std::vector<const T*> uniforms;
-    if (options.hoist && grid.cols() >= kMinRowTileLanes) {
+    if (options.hoist && grid.cols() >= kMinHoistColumns) {
         HoistPlan plan = plan_hoisting(graph, spec.outputs, spec.inputs);
         const std::size_t row_count = grid.points() / grid.cols();
         const bool columns_fit = plan.column_nodes.size() * grid.cols() * sizeof(T) <= kMaxHoistedBytes;

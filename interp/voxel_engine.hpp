@@ -18,6 +18,10 @@ namespace fortu {
 /// 16% faster than 256 in float32 (single thread, 1024², min of 5).
 inline constexpr int kTileSize = 1024;
 
+/// Grids narrower than this are evaluated in flat tiles, without hoisting (hoist.hpp): a
+/// tile per row would leave most of each vector loop's length unused.
+inline constexpr int kMinHoistColumns = 64;
+
 void voxel_evaluate_grid(const ir::Graph& graph, ir::NodeId root, Field& field, const EvalOptions& options);
 
 /// Evaluates one node's expression at single points, value and exact gradient; the tape is

@@ -77,13 +77,13 @@ NodeId Graph::make(Op op, std::span<const NodeId> args, double imm) {
 }
 
 std::vector<NodeId> Graph::reachable(std::span<const NodeId> roots, const std::vector<char>* stop) const {
+    if (roots.empty()) return {};
     std::vector<char> seen(nodes_.size(), 0);
     NodeId last = 0;
     for (NodeId root : roots) {
         seen[root] = 1;
         last = std::max(last, root);
     }
-    if (roots.empty()) return {};
     for (NodeId id = last + 1; id-- > 0;) {
         if (!seen[id] || (stop && (*stop)[id])) continue;
         const Node& n = nodes_[id];

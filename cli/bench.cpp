@@ -30,8 +30,8 @@ constexpr const char* kBenchUsage = R"(usage:
                                    issue 5's suite (prospero.vm, 64-segment FLOZ, Fig. 3a with
                                    M-images) beside its targets: results.md, results.json
                                    (default --out bench-results/perf, --repeat 5; --data: the
-                                   folder with prospero.vm, default $FORTU_SHARED_DIR/data or
-                                   ../shared/data)
+                                   folder with prospero.vm, default $FORTU_SHARED_DIR/data,
+                                   ../shared/data or the copy in tests/shared/data)
 
 options:
   --engines classic,voxel   what to time (default both): classic, voxel (float64),

@@ -156,7 +156,8 @@ std::string shared_data_folder(const std::string& given) {
     if (!given.empty()) return given;
     if (const char* shared = std::getenv("FORTU_SHARED_DIR"); shared && *shared)
         return (fs::path(shared) / "data").string();
-    return find_near_binary("../shared/data").value_or("../shared/data").string();
+    if (auto beside = find_near_binary("../shared/data")) return beside->string();
+    return find_near_binary("tests/shared/data").value_or("../shared/data").string();
 }
 
 int run_performance_benchmarks(const PerformanceOptions& options) {

@@ -18,8 +18,8 @@ struct PerformanceOptions {
 };
 
 /// The folder prospero.vm is looked for in: `given`, else $FORTU_SHARED_DIR/data (as the
-/// golden tests use it), else ../shared/data beside the source tree, else ../shared/data
-/// from the working folder.
+/// golden tests use it), else ../shared/data beside the source tree, else the copy vendored in
+/// tests/shared/data, else ../shared/data from the working folder.
 std::string shared_data_folder(const std::string& given);
 
 /// Runs the suite, prints the Markdown table and writes results.md and results.json to

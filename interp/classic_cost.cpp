@@ -9,7 +9,7 @@ namespace fortu {
 
 int classic_node_operations(const ir::Node& n) {
     static constexpr int kOps[] = {
-#define FORTU_OP(name, arity, spelling, flags, formula_ops, expr) formula_ops,
+#define FORTU_OP(name, arity, spelling, flags, formula_ops, sign_operands, interval, expr) formula_ops,
 #include "interp/ir/ops.def"
 #undef FORTU_OP
     };

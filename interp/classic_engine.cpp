@@ -27,7 +27,7 @@ public:
         // operand evaluations of an R-formula — memoising the engine that must not memoise.
         ++evaluations_;
         switch (n.op) {
-#define FORTU_OP(name, arity, spelling, flags, formula_ops, expr)                         \
+#define FORTU_OP(name, arity, spelling, flags, formula_ops, sign_operands, interval, expr)                         \
     case Op::name:                                                                        \
         if constexpr (Op::name == Op::Arg) {                                              \
             return coords_[static_cast<int>(n.imm)];                                      \

@@ -1,5 +1,7 @@
-// interp/interval.cpp — the interval kernels. Anything not bounded here is kUnknownInterval,
-// which is always correct: pruning then simply does not happen for that node.
+// interp/interval.cpp — the interval kernels: the rules ops.def's interval column names,
+// dispatched by a switch generated from ops.def (one case per operation, no default). An
+// operation whose rule is not_bounded() gets kUnknownInterval, which is always correct:
+// pruning then simply does not happen for that node.
 #include "interp/interval.hpp"
 
 #include "interp/ir/kernels.hpp"
@@ -64,99 +66,118 @@ Interval r_interval(bool conjunction, const Interval& a, const Interval& b, doub
     return {r(a.lo, b.lo) - margin, r(a.hi, b.hi) + margin, a.maybe_nan || b.maybe_nan};
 }
 
+// ---- the rules ops.def's interval column names ----
+
+Interval not_bounded() { return kUnknownInterval; }
+Interval negated(const Interval& a) { return {-a.hi, -a.lo, a.maybe_nan}; }
+Interval sum(const Interval& a, const Interval& b) {
+    return checked({a.lo + b.lo, a.hi + b.hi, a.maybe_nan || b.maybe_nan});
+}
+Interval difference(const Interval& a, const Interval& b) {
+    return checked({a.lo - b.hi, a.hi - b.lo, a.maybe_nan || b.maybe_nan});
+}
+Interval product(const Interval& a, const Interval& b) {
+    return checked(from_corners(a.lo * b.lo, a.lo * b.hi, a.hi * b.lo, a.hi * b.hi, a.maybe_nan || b.maybe_nan));
+}
+Interval quotient(const Interval& a, const Interval& b) {
+    if (!(b.lo > 0 || b.hi < 0)) return kUnknownInterval;
+    return checked(from_corners(a.lo / b.lo, a.lo / b.hi, a.hi / b.lo, a.hi / b.hi, a.maybe_nan || b.maybe_nan));
+}
+Interval power(const Interval& a, const Interval& b) {
+    // A constant whole exponent n (X^2 in scripts): monotone in a for odd n, in |a|
+    // for even n; std::pow is within an ulp there.
+    if (b.lo == b.hi && !b.maybe_nan && b.lo == std::floor(b.lo) && std::abs(b.lo) <= 64 &&
+        (b.lo > 0 || a.lo > 0 || a.hi < 0)) {
+        const double n = b.lo;
+        const bool even = std::fmod(n, 2.0) == 0;
+        double lo = std::pow(a.lo, n), hi = std::pow(a.hi, n);
+        if (lo > hi) std::swap(lo, hi);
+        if (even && a.lo < 0 && a.hi > 0) lo = 0;  // n > 0 here (a straddles 0)
+        return checked(widened(lo, hi, a.maybe_nan));
+    }
+    // a > 0: monotone in each operand, so the corners bound it.
+    if (a.lo > 0) {
+        const Interval r = from_corners(std::pow(a.lo, b.lo), std::pow(a.lo, b.hi), std::pow(a.hi, b.lo),
+                                        std::pow(a.hi, b.hi), a.maybe_nan || b.maybe_nan);
+        return checked(widened(r.lo, r.hi, r.maybe_nan));
+    }
+    return kUnknownInterval;
+}
+Interval squared(const Interval& a) {
+    if (a.lo >= 0) return checked({a.lo * a.lo, a.hi * a.hi, a.maybe_nan});
+    if (a.hi <= 0) return checked({a.hi * a.hi, a.lo * a.lo, a.maybe_nan});
+    return checked({0.0, std::max(a.lo * a.lo, a.hi * a.hi), a.maybe_nan});
+}
+Interval square_root(const Interval& a) {
+    if (a.hi < 0) return kUnknownInterval;
+    return {std::sqrt(std::max(a.lo, 0.0)), std::sqrt(a.hi), a.maybe_nan || a.lo < 0};
+}
+Interval absolute(const Interval& a) {
+    if (a.lo >= 0) return a;
+    if (a.hi <= 0) return {-a.hi, -a.lo, a.maybe_nan};
+    return {0.0, std::max(-a.lo, a.hi), a.maybe_nan};
+}
+/// f non-decreasing (a libm function: widened).
+Interval increasing(const Interval& a, double (*f)(double)) { return checked(widened(f(a.lo), f(a.hi), a.maybe_nan)); }
+/// f non-decreasing where x > 0, undefined elsewhere (logarithms).
+Interval increasing_above_zero(const Interval& a, double (*f)(double)) {
+    if (!(a.lo > 0)) return kUnknownInterval;
+    return increasing(a, f);
+}
+/// f non-decreasing and exact (sign, floor, ceil: no rounding to widen for).
+Interval exactly_increasing(const Interval& a, double (*f)(double)) { return {f(a.lo), f(a.hi), a.maybe_nan}; }
+Interval arcsine(const Interval& a) {
+    if (a.lo < -1 || a.hi > 1) return kUnknownInterval;
+    return widened(std::asin(a.lo), std::asin(a.hi), a.maybe_nan);
+}
+Interval arccosine(const Interval& a) {
+    if (a.lo < -1 || a.hi > 1) return kUnknownInterval;
+    return widened(std::acos(a.hi), std::acos(a.lo), a.maybe_nan);
+}
+Interval sine(const Interval& a, double shift) { return sin_interval(a, shift); }
+Interval hyperbolic_cosine(const Interval& a) {
+    const double m = std::max(std::abs(a.lo), std::abs(a.hi));
+    const double lo = (a.lo <= 0 && a.hi >= 0) ? 1.0 : std::cosh(std::min(std::abs(a.lo), std::abs(a.hi)));
+    Interval r = checked(widened(lo, std::cosh(m), a.maybe_nan));
+    if (!r.unknown()) r.lo = std::max(r.lo, 1.0);
+    return r;
+}
+Interval minimum(const Interval& a, const Interval& b) {
+    return {std::min(a.lo, b.lo), std::min(a.hi, b.hi), a.maybe_nan || b.maybe_nan};
+}
+Interval maximum(const Interval& a, const Interval& b) {
+    return {std::max(a.lo, b.lo), std::max(a.hi, b.hi), a.maybe_nan || b.maybe_nan};
+}
+Interval hypotenuse(const Interval& a, const Interval& b) {
+    auto low = [](const Interval& i) { return (i.lo <= 0 && i.hi >= 0) ? 0.0 : std::min(std::abs(i.lo), std::abs(i.hi)); };
+    auto high = [](const Interval& i) { return std::max(std::abs(i.lo), std::abs(i.hi)); };
+    Interval r = checked(widened(std::hypot(low(a), low(b)), std::hypot(high(a), high(b)), a.maybe_nan || b.maybe_nan));
+    if (!r.unknown()) r.lo = std::max(r.lo, 0.0);
+    return r;
+}
+/// SELECT(c, x, y) = x where c > 0, NaN where c is NaN, else y.
+Interval selected(const Interval& c, const Interval& x, const Interval& y) {
+    if (c.positive()) return x;
+    if (c.hi <= 0 && !c.maybe_nan) return y;
+    return {std::min(x.lo, y.lo), std::max(x.hi, y.hi), c.maybe_nan || x.maybe_nan || y.maybe_nan};
+}
+Interval r_operation(bool conjunction, const Interval& a, const Interval& b, double alpha) {
+    return checked(r_interval(conjunction, a, b, alpha));
+}
+
 }  // namespace
 
 Interval interval_op(ir::Op op, const Interval& a, const Interval& b, const Interval& c, double imm) {
-    using ir::Op;
-    const int arity = ir::op_arity(op);
+    using namespace ir;  // kernel names are used unqualified inside ops.def's interval column
+    const int arity = op_arity(op);
     if (a.unknown() || (arity > 1 && b.unknown()) || (arity > 2 && c.unknown())) return kUnknownInterval;
-    const bool nan2 = a.maybe_nan || b.maybe_nan;
+    // Every operation has a case (no default): a new operation states its rule or not_bounded().
     switch (op) {
-    case Op::Const:
-    case Op::Arg: return kUnknownInterval;
-    case Op::Neg: return {-a.hi, -a.lo, a.maybe_nan};
-    case Op::Add: return checked({a.lo + b.lo, a.hi + b.hi, nan2});
-    case Op::Sub: return checked({a.lo - b.hi, a.hi - b.lo, nan2});
-    case Op::Mul: return checked(from_corners(a.lo * b.lo, a.lo * b.hi, a.hi * b.lo, a.hi * b.hi, nan2));
-    case Op::Div:
-        if (!(b.lo > 0 || b.hi < 0)) return kUnknownInterval;
-        return checked(from_corners(a.lo / b.lo, a.lo / b.hi, a.hi / b.lo, a.hi / b.hi, nan2));
-    case Op::Pow:
-        // A constant whole exponent n (X^2 in scripts): monotone in a for odd n, in |a|
-        // for even n; std::pow is within an ulp there.
-        if (b.lo == b.hi && !b.maybe_nan && b.lo == std::floor(b.lo) && std::abs(b.lo) <= 64 &&
-            (b.lo > 0 || a.lo > 0 || a.hi < 0)) {
-            const double n = b.lo;
-            const bool even = std::fmod(n, 2.0) == 0;
-            double lo = std::pow(a.lo, n), hi = std::pow(a.hi, n);
-            if (lo > hi) std::swap(lo, hi);
-            if (even && a.lo < 0 && a.hi > 0) lo = 0;  // n > 0 here (a straddles 0)
-            return checked(widened(lo, hi, a.maybe_nan));
-        }
-        // a > 0: monotone in each operand, so the corners bound it.
-        if (a.lo > 0) {
-            const Interval r = from_corners(std::pow(a.lo, b.lo), std::pow(a.lo, b.hi), std::pow(a.hi, b.lo),
-                                            std::pow(a.hi, b.hi), nan2);
-            return checked(widened(r.lo, r.hi, r.maybe_nan));
-        }
-        return kUnknownInterval;
-    case Op::Square:
-        if (a.lo >= 0) return checked({a.lo * a.lo, a.hi * a.hi, a.maybe_nan});
-        if (a.hi <= 0) return checked({a.hi * a.hi, a.lo * a.lo, a.maybe_nan});
-        return checked({0.0, std::max(a.lo * a.lo, a.hi * a.hi), a.maybe_nan});
-    case Op::Sqrt:
-        if (a.hi < 0) return kUnknownInterval;
-        return {std::sqrt(std::max(a.lo, 0.0)), std::sqrt(a.hi), a.maybe_nan || a.lo < 0};
-    case Op::Abs:
-        if (a.lo >= 0) return a;
-        if (a.hi <= 0) return {-a.hi, -a.lo, a.maybe_nan};
-        return {0.0, std::max(-a.lo, a.hi), a.maybe_nan};
-    case Op::Exp: return checked(widened(std::exp(a.lo), std::exp(a.hi), a.maybe_nan));
-    case Op::Ln:
-    case Op::Log10:
-    case Op::Log2: {
-        if (!(a.lo > 0)) return kUnknownInterval;
-        auto f = [&](double x) { return op == Op::Ln ? std::log(x) : op == Op::Log10 ? std::log10(x) : std::log2(x); };
-        return checked(widened(f(a.lo), f(a.hi), a.maybe_nan));
+#define FORTU_OP(name, arity, spelling, flags, formula_ops, sign_operands, interval, expr) \
+    case Op::name: return (interval);
+#include "interp/ir/ops.def"
     }
-    case Op::Sin: return sin_interval(a, 0.0);
-    case Op::Cos: return sin_interval(a, std::numbers::pi / 2);
-    case Op::Asin:
-    case Op::Acos:
-        if (a.lo < -1 || a.hi > 1) return kUnknownInterval;
-        if (op == Op::Asin) return widened(std::asin(a.lo), std::asin(a.hi), a.maybe_nan);
-        return widened(std::acos(a.hi), std::acos(a.lo), a.maybe_nan);
-    case Op::Atan: return widened(std::atan(a.lo), std::atan(a.hi), a.maybe_nan);
-    case Op::Sinh: return checked(widened(std::sinh(a.lo), std::sinh(a.hi), a.maybe_nan));
-    case Op::Tanh: return widened(std::tanh(a.lo), std::tanh(a.hi), a.maybe_nan);
-    case Op::Cosh: {
-        const double m = std::max(std::abs(a.lo), std::abs(a.hi));
-        const double lo = (a.lo <= 0 && a.hi >= 0) ? 1.0 : std::cosh(std::min(std::abs(a.lo), std::abs(a.hi)));
-        Interval r = checked(widened(lo, std::cosh(m), a.maybe_nan));
-        if (!r.unknown()) r.lo = std::max(r.lo, 1.0);
-        return r;
-    }
-    case Op::Sign: return {ir::k_sign(a.lo), ir::k_sign(a.hi), a.maybe_nan};
-    case Op::Min: return {std::min(a.lo, b.lo), std::min(a.hi, b.hi), nan2};
-    case Op::Max: return {std::max(a.lo, b.lo), std::max(a.hi, b.hi), nan2};
-    case Op::Floor: return {std::floor(a.lo), std::floor(a.hi), a.maybe_nan};
-    case Op::Ceil: return {std::ceil(a.lo), std::ceil(a.hi), a.maybe_nan};
-    case Op::Hypot: {
-        auto low = [](const Interval& i) { return (i.lo <= 0 && i.hi >= 0) ? 0.0 : std::min(std::abs(i.lo), std::abs(i.hi)); };
-        auto high = [](const Interval& i) { return std::max(std::abs(i.lo), std::abs(i.hi)); };
-        Interval r = checked(widened(std::hypot(low(a), low(b)), std::hypot(high(a), high(b)), nan2));
-        if (!r.unknown()) r.lo = std::max(r.lo, 0.0);
-        return r;
-    }
-    case Op::Select:
-        // SELECT(c, x, y) = x where c > 0, NaN where c is NaN, else y (operands a=c, b=x, c=y).
-        if (a.positive()) return b;
-        if (a.hi <= 0 && !a.maybe_nan) return c;
-        return {std::min(b.lo, c.lo), std::max(b.hi, c.hi), a.maybe_nan || b.maybe_nan || c.maybe_nan};
-    case Op::RAnd: return checked(r_interval(true, a, b, imm));
-    case Op::ROr: return checked(r_interval(false, a, b, imm));
-    default: return kUnknownInterval;  // tan, atan2, mod: not bounded (always correct)
-    }
+    return kUnknownInterval;
 }
 
 }  // namespace fortu

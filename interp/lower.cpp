@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <climits>
 #include <cmath>
 #include <filesystem>
 #include <fmt/format.h>
@@ -31,33 +32,48 @@ std::string format_number(double v) { return fmt::format("{}", v); }
 // ---- built-ins ----------------------------------------------------------------------
 
 struct Builtin {
-    const char* name;
+    std::string_view name;
     Op op;
     int min_args;
     int max_args;   ///< -1: any number >= min_args (MIN, MAX fold left)
+
+    bool takes(int argc) const { return argc >= min_args && (max_args < 0 || argc <= max_args); }
 };
 
-// Calls with an op of Op::Const are the special forms handled in lower_call.
+// ops.def's FORTU_BUILTIN lines. SIZE (op Const) is the special form handled in lower_call.
 constexpr Builtin kBuiltins[] = {
-    {"SQRT", Op::Sqrt, 1, 1},   {"ABS", Op::Abs, 1, 1},       {"EXP", Op::Exp, 1, 1},
-    {"LOG", Op::Ln, 1, 1},      {"LN", Op::Ln, 1, 1},         {"LOG10", Op::Log10, 1, 1},
-    {"LOG2", Op::Log2, 1, 1},   {"SIN", Op::Sin, 1, 1},       {"COS", Op::Cos, 1, 1},
-    {"TAN", Op::Tan, 1, 1},     {"ASIN", Op::Asin, 1, 1},     {"ACOS", Op::Acos, 1, 1},
-    {"ATAN", Op::Atan, 1, 2},   {"ARCSIN", Op::Asin, 1, 1},   {"ARCCOS", Op::Acos, 1, 1},
-    {"ARCTAN", Op::Atan, 1, 2}, {"ATAN2", Op::Atan2, 2, 2},   {"SINH", Op::Sinh, 1, 1},
-    {"COSH", Op::Cosh, 1, 1},   {"TANH", Op::Tanh, 1, 1},     {"SIGN", Op::Sign, 1, 1},
-    {"MIN", Op::Min, 2, -1},    {"MAX", Op::Max, 2, -1},      {"FLOOR", Op::Floor, 1, 1},
-    {"CEIL", Op::Ceil, 1, 1},   {"MOD", Op::Mod, 2, 2},       {"POW", Op::Pow, 2, 2},
-    {"HYPOT", Op::Hypot, 2, 2}, {"RAND", Op::RAnd, 2, -1},    {"ROR", Op::ROr, 2, -1},
-    {"RNOT", Op::Neg, 1, 1},    {"SIZE", Op::Const, 1, 1},   {"SELECT", Op::Select, 3, 3},
+#define FORTU_BUILTIN(spelling, name, min_args, max_args) {spelling, Op::name, min_args, max_args},
+#include "interp/ir/ops.def"
 };
 
-const Builtin* find_builtin(std::string_view name) {
-    std::string upper(name);
-    for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-    for (const Builtin& b : kBuiltins)
-        if (upper == b.name) return &b;
-    return nullptr;
+bool same_name(std::string_view builtin, std::string_view name) {
+    return builtin.size() == name.size() &&
+           std::equal(name.begin(), name.end(), builtin.begin(), [](char a, char b) {
+               return std::toupper(static_cast<unsigned char>(a)) == b;
+           });
+}
+
+/// The built-in spelled `name` (any case) that takes `argc` arguments, or, when none
+/// does, the first one spelled so; nullptr when there is none.
+const Builtin* find_builtin(std::string_view name, int argc = -1) {
+    const Builtin* first = nullptr;
+    for (const Builtin& b : kBuiltins) {
+        if (!same_name(b.name, name)) continue;
+        if (b.takes(argc)) return &b;
+        if (!first) first = &b;
+    }
+    return first;
+}
+
+/// The argument counts a spelling takes over all its lines (ATAN: 1 or 2); max -1: no limit.
+std::pair<int, int> argument_counts(std::string_view name) {
+    int low = INT_MAX, high = 0;
+    for (const Builtin& b : kBuiltins) {
+        if (b.name != name) continue;
+        low = std::min(low, b.min_args);
+        high = (high < 0 || b.max_args < 0) ? -1 : std::max(high, b.max_args);
+    }
+    return {low, high};
 }
 
 std::string plural(int n, const char* word) {
@@ -641,7 +657,7 @@ private:
                         "define it as CONSTANT T = IMAGE('bump.png'); and use T(I) or BILINEAR");
             return poison();
         }
-        const Builtin* builtin = find_builtin(e.name);
+        const Builtin* builtin = find_builtin(e.name, argc);
         if (b && !builtin) {
             sink_.error(e.name_range,
                         fmt::format("'{}' is {} {}, not a function or an array", e.name,
@@ -652,11 +668,12 @@ private:
             sink_.error(e.name_range, fmt::format("unknown function '{}'", e.name));
             return poison();
         }
-        if (argc < builtin->min_args || (builtin->max_args >= 0 && argc > builtin->max_args)) {
+        if (!builtin->takes(argc)) {
+            const auto [min_args, max_args] = argument_counts(builtin->name);
             std::string expected =
-                builtin->max_args < 0 ? fmt::format("at least {}", plural(builtin->min_args, "argument"))
-                : builtin->min_args == builtin->max_args ? plural(builtin->min_args, "argument")
-                : fmt::format("{} or {} arguments", builtin->min_args, builtin->max_args);
+                max_args < 0 ? fmt::format("at least {}", plural(min_args, "argument"))
+                : min_args == max_args ? plural(min_args, "argument")
+                : fmt::format("{} or {} arguments", min_args, max_args);
             sink_.error(e.range, fmt::format("{} takes {}, got {}", builtin->name, expected, argc));
             return poison();
         }
@@ -671,8 +688,7 @@ private:
         }
         std::vector<NodeId> args;
         for (const ast::ExprPtr& operand : e.operands) args.push_back(lower_expr(*operand, scope, context));
-        Op op = builtin->op;
-        if (op == Op::Atan && argc == 2) op = Op::Atan2;
+        const Op op = builtin->op;
         if (ir::op_arity(op) == 1) return graph_.unary(op, args[0]);
         if (ir::op_arity(op) == 3) return graph_.make(op, args);
         const double imm = (ir::op_flags(op) & ir::kROperation) ? alpha() : 0.0;

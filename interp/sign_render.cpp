@@ -51,20 +51,6 @@ constexpr int32_t kKeep = -1;
 constexpr int32_t kPlusOne = -2;
 constexpr int32_t kMinusOne = -3;
 
-/// Whether the sign of op's result depends only on the signs of operand k (so that
-/// operand may be replaced by anything with the same sign).
-bool passes_sign(Op op, int k) {
-    switch (op) {
-    case Op::Neg:
-    case Op::Min:
-    case Op::Max:
-    case Op::RAnd:
-    case Op::ROr: return true;
-    case Op::Select: return k > 0;  // SELECT(c, x, y): the signs of x and y, not of c
-    default: return false;
-    }
-}
-
 struct Scratch {
     std::vector<Interval> intervals;
     std::vector<uint8_t> live;
@@ -160,7 +146,7 @@ public:
             [[maybe_unused]] const double imm = o.imm;
             using T = double;
             switch (o.op) {
-#define FORTU_OP(name, arity, spelling, flags, formula_ops, expr)          \
+#define FORTU_OP(name, arity, spelling, flags, formula_ops, sign_operands, interval, expr)          \
     case Op::name:                                                         \
         for (int l = 0; l < n; ++l) {                                      \
             [[maybe_unused]] const T a = A[l];                             \

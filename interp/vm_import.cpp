@@ -14,18 +14,21 @@ namespace {
 
 struct VmOp {
     std::string_view name;
-    int arity;          ///< operands (names); const has one number instead
     ir::Op op;
 };
 
-// The ops of the format (../shared/README.md); var-* and const are handled apart.
+// The ops of the format (ops.def's FORTU_VM_OP lines); var-* and const are handled apart.
 constexpr VmOp kVmOps[] = {
-    {"add", 2, ir::Op::Add},   {"sub", 2, ir::Op::Sub},     {"mul", 2, ir::Op::Mul},
-    {"div", 2, ir::Op::Div},   {"max", 2, ir::Op::Max},     {"min", 2, ir::Op::Min},
-    {"neg", 1, ir::Op::Neg},   {"square", 1, ir::Op::Square}, {"sqrt", 1, ir::Op::Sqrt},
-    {"abs", 1, ir::Op::Abs},   {"exp", 1, ir::Op::Exp},     {"ln", 1, ir::Op::Ln},
-    {"sin", 1, ir::Op::Sin},   {"cos", 1, ir::Op::Cos},
+#define FORTU_VM_OP(spelling, name) {spelling, ir::Op::name},
+#include "interp/ir/ops.def"
 };
+
+/// The hint of an unknown operation: every operation of the format, in its order.
+std::string known_operations() {
+    std::string text = "known: var-x var-y var-z const";
+    for (const VmOp& op : kVmOps) text += fmt::format(" {}", op.name);
+    return text;
+}
 
 struct Token {
     std::string_view text;
@@ -133,14 +136,14 @@ std::optional<Model> import_vm(std::shared_ptr<const SourceFile> source, Diagnos
             for (const VmOp& candidate : kVmOps)
                 if (candidate.name == op.text) found = &candidate;
             if (!found) {
-                sink.error(range(op), fmt::format("unknown operation '{}'", op.text),
-                           "known: var-x var-y var-z const add sub mul div max min neg square sqrt abs exp ln sin cos");
+                sink.error(range(op), fmt::format("unknown operation '{}'", op.text), known_operations());
                 continue;
             }
-            if (!expect_count(found->arity)) continue;
-            ir::NodeId args[2] = {ir::kNoNode, ir::kNoNode};
+            const int arity = ir::op_arity(found->op);
+            if (!expect_count(arity)) continue;
+            ir::NodeId args[ir::kMaxArity] = {ir::kNoNode, ir::kNoNode, ir::kNoNode};
             bool ok = true;
-            for (int k = 0; k < found->arity; ++k) {
+            for (int k = 0; k < arity; ++k) {
                 auto it = names.find(tokens[2 + k].text);
                 if (it == names.end()) {
                     sink.error(range(tokens[2 + k]), fmt::format("unknown name '{}'", tokens[2 + k].text),
@@ -156,7 +159,7 @@ std::optional<Model> import_vm(std::shared_ptr<const SourceFile> source, Diagnos
                 id = as_r0(model.graph, ir::Op::Add, args[0], args[1]);
                 if (id == ir::kNoNode) id = as_r0(model.graph, ir::Op::Add, args[1], args[0]);
             }
-            if (id == ir::kNoNode) id = model.graph.make(found->op, std::span<const ir::NodeId>(args, found->arity));
+            if (id == ir::kNoNode) id = model.graph.make(found->op, std::span<const ir::NodeId>(args, arity));
         }
         names.emplace(name.text, id);
         last = id;

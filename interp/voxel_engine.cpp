@@ -43,7 +43,7 @@ void run_code(const Instruction* code, std::size_t count, T* const* slots, int r
         [[maybe_unused]] auto get_b = value_of(b);                         \
         out[l] = (expr);                                                   \
     }
-#define FORTU_OP(name, arity, spelling, flags, formula_ops, expr)          \
+#define FORTU_OP(name, arity, spelling, flags, formula_ops, sign_operands, interval, expr)          \
     case Op::name:                                                         \
         if (mask == 0) { FORTU_LANES(expr, A[l], B[l], C[l]) }             \
         else if (mask == 1) { FORTU_LANES(expr, ka, B[l], C[l]) }          \

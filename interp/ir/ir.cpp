@@ -11,7 +11,7 @@ namespace fortu::ir {
 
 std::string_view op_name(Op op) {
     static constexpr std::string_view kNames[] = {
-#define FORTU_OP(name, arity, spelling, flags, formula_ops, expr) spelling,
+#define FORTU_OP(name, arity, spelling, flags, formula_ops, sign_operands, interval, expr) spelling,
 #include "interp/ir/ops.def"
 #undef FORTU_OP
     };
@@ -24,7 +24,7 @@ double fold(Op op, double a, double b, double c, double imm) {
     [[maybe_unused]] auto get_b = value_of(b);
     (void)c;
     switch (op) {
-#define FORTU_OP(name, arity, spelling, flags, formula_ops, expr) \
+#define FORTU_OP(name, arity, spelling, flags, formula_ops, sign_operands, interval, expr) \
     case Op::name: return (expr);
 #include "interp/ir/ops.def"
 #undef FORTU_OP

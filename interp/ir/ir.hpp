@@ -14,13 +14,13 @@
 namespace fortu::ir {
 
 enum class Op : uint8_t {
-#define FORTU_OP(name, arity, spelling, flags, formula_ops, expr) name,
+#define FORTU_OP(name, arity, spelling, flags, formula_ops, sign_operands, interval, expr) name,
 #include "interp/ir/ops.def"
 #undef FORTU_OP
 };
 
 inline constexpr int kOpCount = 0
-#define FORTU_OP(name, arity, spelling, flags, formula_ops, expr) +1
+#define FORTU_OP(name, arity, spelling, flags, formula_ops, sign_operands, interval, expr) +1
 #include "interp/ir/ops.def"
 #undef FORTU_OP
     ;
@@ -34,16 +34,35 @@ enum OpFlags : unsigned {
 // Inline: the engines and the sign renderer ask per instruction in their hot loops.
 inline int op_arity(Op op) {
     static constexpr int kArity[] = {
-#define FORTU_OP(name, arity, spelling, flags, formula_ops, expr) arity,
+#define FORTU_OP(name, arity, spelling, flags, formula_ops, sign_operands, interval, expr) arity,
 #include "interp/ir/ops.def"
 #undef FORTU_OP
     };
     return kArity[static_cast<int>(op)];
 }
 
+/// The operands whose sign alone decides the sign of an operation's result (bit k:
+/// operand k), ops.def's sign_operands column.
+enum SignOperands : unsigned {
+    kSignOfNone = 0,
+    kSignOfA = 1u << 0,                  ///< neg
+    kSignOfAB = (1u << 0) | (1u << 1),   ///< min, max, R-operations
+    kSignOfBC = (1u << 1) | (1u << 2),   ///< select(c, a, b): the signs of a and b, not of c
+};
+
+/// Whether the sign of op's result depends on operand k only through its sign (so that
+/// operand may be replaced by anything with the same sign).
+inline bool passes_sign(Op op, int k) {
+    static constexpr unsigned kSignOperands[] = {
+#define FORTU_OP(name, arity, spelling, flags, formula_ops, sign_operands, interval, expr) (sign_operands),
+#include "interp/ir/ops.def"
+    };
+    return (kSignOperands[static_cast<int>(op)] >> k) & 1u;
+}
+
 inline unsigned op_flags(Op op) {
     static constexpr unsigned kFlags[] = {
-#define FORTU_OP(name, arity, spelling, flags, formula_ops, expr) (flags),
+#define FORTU_OP(name, arity, spelling, flags, formula_ops, sign_operands, interval, expr) (flags),
 #include "interp/ir/ops.def"
 #undef FORTU_OP
     };

@@ -109,3 +109,28 @@ TEST_CASE("every operation: point values lie inside the interval (random boxes)"
         }
     }
 }
+
+TEST_CASE("ops.def's sign_operands: which operands pass only their sign") {
+    CHECK(ir::passes_sign(Op::Neg, 0));
+    CHECK(ir::passes_sign(Op::Min, 0));
+    CHECK(ir::passes_sign(Op::Max, 1));
+    CHECK(ir::passes_sign(Op::RAnd, 1));
+    CHECK(ir::passes_sign(Op::ROr, 0));
+    CHECK_FALSE(ir::passes_sign(Op::Select, 0));  // SELECT(c, a, b): c's value decides
+    CHECK(ir::passes_sign(Op::Select, 1));
+    CHECK(ir::passes_sign(Op::Select, 2));
+    CHECK_FALSE(ir::passes_sign(Op::Add, 0));
+    CHECK_FALSE(ir::passes_sign(Op::Mul, 1));
+    CHECK_FALSE(ir::passes_sign(Op::Sqrt, 0));
+}
+
+TEST_CASE("ops without an interval rule are unknown, never a guess") {
+    const Interval a{0.1, 0.2, false};
+    CHECK(same(interval_op(Op::Tan, a, a, a, 0), kUnknownInterval));   // ops.def: not_bounded()
+    CHECK(same(interval_op(Op::Atan2, a, a, a, 0), kUnknownInterval));
+    CHECK(same(interval_op(Op::Mod, a, a, a, 0), kUnknownInterval));
+    // A rule named in ops.def (increasing: widened by 8 ulps each way).
+    const Interval e = interval_op(Op::Exp, {0, 1, false}, a, a, 0);
+    CHECK(e.lo == 1 - 8 * std::numeric_limits<double>::epsilon());
+    CHECK(e.hi == std::exp(1.0) + std::exp(1.0) * 8 * std::numeric_limits<double>::epsilon());
+}

@@ -61,6 +61,34 @@ TEST_CASE("built-in functions and PI, case-insensitive; user PI shadows the buil
     CHECK(value_at("ARGUMENT X; RETURN LOG(EXP(2)) + LN(1) + LOG10(100) + LOG2(8);") == doctest::Approx(2 + 0 + 2 + 3));
 }
 
+TEST_CASE("built-in names come from ops.def: aliases, overloads by argument count, arity messages") {
+    CHECK(value_at("ARGUMENT X; RETURN ARCTAN(1, 2) - ATAN2(1, 2);") == 0);
+    CHECK(value_at("ARGUMENT X; RETURN ARCTAN(0.5) - ATAN(0.5) + ARCSIN(0.5) - ASIN(0.5) + ARCCOS(0.5) - ACOS(0.5);") == 0);
+    CHECK(value_at("ARGUMENT X; RETURN RNOT(X) + ror(X, 1, 2) - ROR(ROR(X, 1), 2);", 3) == -3);
+    CHECK(value_at("ARGUMENT X; CONSTANT A = [4, 5, 6]; RETURN size(A);") == 3);
+    auto errors = [](const std::string& text) {
+        auto c = compile_text(text);
+        CHECK_FALSE(c.model);
+        return c.sink.render_all();
+    };
+    CHECK(errors("ARGUMENT X;\nRETURN Atan(X, X, X);\n") ==
+          "test.fortu:2:8: error: ATAN takes 1 or 2 arguments, got 3\n"
+          "RETURN Atan(X, X, X);\n"
+          "       ^~~~~~~~~~~~~\n");
+    CHECK(errors("ARGUMENT X;\nRETURN MAX(X);\n") ==
+          "test.fortu:2:8: error: MAX takes at least 2 arguments, got 1\n"
+          "RETURN MAX(X);\n"
+          "       ^~~~~~\n");
+    CHECK(errors("ARGUMENT X;\nRETURN SELECT(X, X);\n") ==
+          "test.fortu:2:8: error: SELECT takes 3 arguments, got 2\n"
+          "RETURN SELECT(X, X);\n"
+          "       ^~~~~~~~~~~~\n");
+    CHECK(errors("ARGUMENT X;\nRETURN FROB(X);\n") ==
+          "test.fortu:2:8: error: unknown function 'FROB'\n"
+          "RETURN FROB(X);\n"
+          "       ^~~~\n");
+}
+
 TEST_CASE("hash-consing shares equal sub-expressions and folds constants") {
     auto c = compile_text("ARGUMENT X, Y;\nCONSTANT C = 1./2.*4;\nVARIABLE W = (X-1.3)*(X-1.3) + (X-1.3)*(X-1.3) + C;\nRETURN W;\n");
     REQUIRE(c.model);

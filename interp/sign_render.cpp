@@ -1,10 +1,13 @@
-// interp/sign_render.cpp — the quadtree/octree walk, per-box tape simplification, and the
-// point-wise evaluation of the small boxes left undecided.
+// interp/sign_render.cpp — the quadtree/octree walk: each box's intervals decide it or
+// shorten its tape (box_simplify.hpp); the small boxes left undecided run their shortened
+// tape with the lane kernel the voxel engine uses (lane_kernel.hpp).
 #include "interp/sign_render.hpp"
 
+#include "interp/box_simplify.hpp"
 #include "interp/interval.hpp"
-#include "interp/ir/kernels.hpp"
+#include "interp/lane_kernel.hpp"
 #include "interp/parallel.hpp"
+#include "interp/tape.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -16,20 +19,6 @@
 
 namespace fortu {
 namespace {
-
-using namespace ir;  // kernel names are used unqualified inside ops.def expressions
-
-/// One operation of a box's tape; operands are indices of earlier operations (SSA).
-struct BoxOp {
-    Op op;
-    uint32_t in[kMaxArity];
-    double imm;
-};
-
-struct BoxTape {
-    std::vector<BoxOp> ops;
-    uint32_t root = 0;
-};
 
 /// A box of grid nodes, inclusive index ranges per axis (col, row, slice).
 struct Box {
@@ -47,18 +36,12 @@ struct Box {
 /// leaves were slower than 4³ on bear.vm 128³ (129 against 117 ms).
 constexpr int kLeafLanes = 256;
 
-constexpr int32_t kKeep = -1;
-constexpr int32_t kPlusOne = -2;
-constexpr int32_t kMinusOne = -3;
-
 struct Scratch {
-    std::vector<Interval> intervals;
-    std::vector<uint8_t> live;
-    std::vector<uint8_t> sign_only;
-    std::vector<int32_t> replace;
-    std::vector<uint32_t> renumber;
+    std::vector<Interval> ranges;
+    BoxScratch box;
     std::vector<double> lanes;
-    std::vector<std::unique_ptr<BoxTape>> tapes;  ///< one per recursion depth
+    std::vector<double*> slots;
+    std::vector<std::unique_ptr<Tape>> tapes;  ///< one per recursion depth
 };
 
 class Renderer {
@@ -67,16 +50,16 @@ public:
 
     /// Evaluates the box's intervals: the sign of the whole box when they decide it;
     /// otherwise simplifies `tape` into `simplified` and returns nullopt.
-    std::optional<double> decide(const Box& box, const BoxTape& tape, Scratch& s, BoxTape& simplified,
+    std::optional<double> decide(const Box& box, const Tape& tape, Scratch& s, Tape& simplified,
                                  SignRenderStats& st) const {
         ++st.boxes;
-        evaluate_intervals(box, tape, s);
-        const Interval& r = s.intervals[tape.root];
+        evaluate_intervals(tape, {axis_interval(box, 0), axis_interval(box, 1), axis_interval(box, 2)}, s.ranges);
+        const Interval& r = s.ranges[tape.root_slot];
         if (r.positive() || r.negative() || (r.lo == 0 && r.hi == 0 && !r.maybe_nan)) {
             st.decided_points += box.points();
             return r.positive() ? 1.0 : r.negative() ? -1.0 : 0.0;
         }
-        simplify(tape, s, simplified);
+        simplify_for_sign(tape, s.ranges, s.box, simplified);
         return std::nullopt;
     }
 
@@ -106,9 +89,9 @@ public:
     }
 
     /// Depth-first: the box with its parent's tape.
-    void render(const Box& box, const BoxTape& tape, Scratch& s, std::size_t depth, SignRenderStats& st) {
-        if (s.tapes.size() <= depth) s.tapes.push_back(std::make_unique<BoxTape>());
-        BoxTape& simplified = *s.tapes[depth];
+    void render(const Box& box, const Tape& tape, Scratch& s, std::size_t depth, SignRenderStats& st) {
+        if (s.tapes.size() <= depth) s.tapes.push_back(std::make_unique<Tape>());
+        Tape& simplified = *s.tapes[depth];
         if (const std::optional<double> sign = decide(box, tape, s, simplified, st)) {
             fill(box, *sign);
             return;
@@ -120,55 +103,35 @@ public:
         for (const Box& child : split(box)) render(child, simplified, s, depth + 1, st);
     }
 
-    void evaluate_points(const Box& box, const BoxTape& tape, Scratch& s, SignRenderStats& st) {
+    void evaluate_points(const Box& box, const Tape& tape, Scratch& s, SignRenderStats& st) {
         const int n = static_cast<int>(box.points());
-        s.lanes.resize(tape.ops.size() * kLeafLanes);
-        double* v = s.lanes.data();
-        for (std::size_t i = 0; i < tape.ops.size(); ++i) {
-            const BoxOp& o = tape.ops[i];
-            double* out = v + i * kLeafLanes;
-            if (o.op == Op::Const) {
-                std::fill_n(out, n, o.imm);
-                continue;
-            }
-            if (o.op == Op::Arg) {
-                const int axis = static_cast<int>(o.imm);
-                int l = 0;
-                for (int k = box.lo[2]; k <= box.hi[2]; ++k)
-                    for (int j = box.lo[1]; j <= box.hi[1]; ++j)
-                        for (int c = box.lo[0]; c <= box.hi[0]; ++c)
-                            out[l++] = axis == 0 ? grid_.x_at(c) : axis == 1 ? grid_.y_at(j) : grid_.z_at(k);
-                continue;
-            }
-            const double* A = v + std::size_t(o.in[0]) * kLeafLanes;
-            const double* B = v + std::size_t(o.in[1]) * kLeafLanes;
-            const double* C = v + std::size_t(o.in[2]) * kLeafLanes;
-            [[maybe_unused]] const double imm = o.imm;
-            using T = double;
-            switch (o.op) {
-#define FORTU_OP(name, arity, spelling, flags, formula_ops, sign_operands, interval, expr)          \
-    case Op::name:                                                         \
-        for (int l = 0; l < n; ++l) {                                      \
-            [[maybe_unused]] const T a = A[l];                             \
-            [[maybe_unused]] const T b = B[l];                             \
-            [[maybe_unused]] const T c = C[l];                             \
-            [[maybe_unused]] auto get_a = value_of(a);                     \
-            [[maybe_unused]] auto get_b = value_of(b);                     \
-            out[l] = (expr);                                               \
-        }                                                                  \
-        break;
-#include "interp/ir/ops.def"
-#undef FORTU_OP
-            }
+        if (s.lanes.size() < std::size_t(tape.slot_count) * kLeafLanes) {
+            s.lanes.resize(std::size_t(tape.slot_count) * kLeafLanes);
+            s.slots.clear();
         }
-        const double* result = v + std::size_t(tape.root) * kLeafLanes;
+        if (s.slots.size() < tape.slot_count) {
+            s.slots.resize(s.lanes.size() / kLeafLanes);
+            for (std::size_t k = 0; k < s.slots.size(); ++k) s.slots[k] = s.lanes.data() + k * kLeafLanes;
+        }
+        for (auto [slot, axis] : tape.arguments) {
+            double* out = s.slots[slot];
+            int l = 0;
+            for (int k = box.lo[2]; k <= box.hi[2]; ++k)
+                for (int j = box.lo[1]; j <= box.hi[1]; ++j)
+                    for (int c = box.lo[0]; c <= box.hi[0]; ++c)
+                        out[l++] = axis == 0 ? grid_.x_at(c) : axis == 1 ? grid_.y_at(j) : grid_.z_at(k);
+        }
+        for (auto [slot, value] : tape.constants) std::fill_n(s.slots[slot], n, value);
+        if (n == kLeafLanes) run_lanes<double, kLeafLanes>(tape.code.data(), tape.code.size(), s.slots.data(), n);
+        else run_lanes<double, 0>(tape.code.data(), tape.code.size(), s.slots.data(), n);
+        const double* result = s.slots[tape.root_slot];
         int l = 0;
         for (int k = box.lo[2]; k <= box.hi[2]; ++k)
             for (int j = box.lo[1]; j <= box.hi[1]; ++j)
                 for (int c = box.lo[0]; c <= box.hi[0]; ++c, ++l)
-                    field_.values[grid_.index(c, j, k)] = k_sign(result[l]);
+                    field_.values[grid_.index(c, j, k)] = ir::k_sign(result[l]);
         st.leaf_points += n;
-        st.leaf_operations += std::size_t(n) * tape.ops.size();
+        st.leaf_operations += std::size_t(n) * tape.code.size();
     }
 
     void fill(const Box& box, double sign) {
@@ -186,132 +149,14 @@ private:
         return {std::min(p, q), std::max(p, q), false};
     }
 
-    void evaluate_intervals(const Box& box, const BoxTape& tape, Scratch& s) const {
-        s.intervals.resize(tape.ops.size());
-        for (std::size_t i = 0; i < tape.ops.size(); ++i) {
-            const BoxOp& o = tape.ops[i];
-            if (o.op == Op::Const) s.intervals[i] = {o.imm, o.imm, false};
-            else if (o.op == Op::Arg) s.intervals[i] = axis_interval(box, static_cast<int>(o.imm));
-            else {
-                const int arity = op_arity(o.op);
-                const Interval& a = s.intervals[o.in[0]];
-                const Interval& b = arity > 1 ? s.intervals[o.in[1]] : a;
-                const Interval& c = arity > 2 ? s.intervals[o.in[2]] : a;
-                s.intervals[i] = interval_op(o.op, a, b, c, o.imm);
-            }
-        }
-    }
-
-    /// The box's tape: dead code dropped, won min/max replaced by the winner, and nodes
-    /// needed only for their sign collapsed (see the header).
-    void simplify(const BoxTape& tape, Scratch& s, BoxTape& out) const {
-        const std::size_t n = tape.ops.size();
-        s.live.assign(n, 0);
-        s.sign_only.assign(n, 1);
-        s.replace.assign(n, kKeep);
-        s.renumber.resize(n);
-        s.live[tape.root] = 1;
-        for (std::size_t i = n; i-- > 0;) {
-            if (!s.live[i]) continue;
-            const BoxOp& o = tape.ops[i];
-            if (op_flags(o.op) & kLeaf) continue;
-            const bool so = s.sign_only[i];
-            const Interval& r = s.intervals[i];
-            if (so && r.positive()) { s.replace[i] = kPlusOne; continue; }
-            if (so && r.negative()) { s.replace[i] = kMinusOne; continue; }
-            const int32_t choice = choose_operand(o, s.intervals, so);
-            if (choice != kKeep) {
-                s.replace[i] = choice;
-                s.live[choice] = 1;
-                s.sign_only[choice] &= so;
-                continue;
-            }
-            const int arity = op_arity(o.op);
-            for (int k = 0; k < arity; ++k) {
-                s.live[o.in[k]] = 1;
-                s.sign_only[o.in[k]] &= (so && passes_sign(o.op, k)) ? 1 : 0;
-            }
-        }
-        out.ops.clear();
-        for (std::size_t i = 0; i < n; ++i) {
-            if (!s.live[i]) continue;
-            const int32_t rep = s.replace[i];
-            if (rep >= 0) { s.renumber[i] = s.renumber[rep]; continue; }
-            BoxOp o = tape.ops[i];
-            if (rep == kPlusOne || rep == kMinusOne) o = BoxOp{Op::Const, {0, 0, 0}, rep == kPlusOne ? 1.0 : -1.0};
-            else
-                for (int k = 0; k < op_arity(o.op); ++k) o.in[k] = s.renumber[o.in[k]];
-            s.renumber[i] = static_cast<uint32_t>(out.ops.size());
-            out.ops.push_back(o);
-        }
-        out.root = s.renumber[tape.root];
-    }
-
-    /// The operand that op equals (for the value, or for the sign when only the sign is
-    /// demanded) over the whole box; kKeep when neither.
-    static int32_t choose_operand(const BoxOp& o, const std::vector<Interval>& iv, bool sign_only) {
-        const bool is_min = o.op == Op::Min || (o.op == Op::RAnd && o.imm == 1.0);
-        const bool is_max = o.op == Op::Max || (o.op == Op::ROr && o.imm == 1.0);
-        const bool conj = is_min || o.op == Op::RAnd;
-        const bool disj = is_max || o.op == Op::ROr;
-        if (o.op == Op::Select) {
-            const Interval& c = iv[o.in[0]];
-            if (c.positive()) return static_cast<int32_t>(o.in[1]);
-            if (c.hi <= 0 && !c.maybe_nan) return static_cast<int32_t>(o.in[2]);
-            return kKeep;
-        }
-        if (!conj && !disj) return kKeep;
-        const int32_t ia = static_cast<int32_t>(o.in[0]), ib = static_cast<int32_t>(o.in[1]);
-        const Interval& a = iv[ia];
-        const Interval& b = iv[ib];
-        const bool numbers = !a.maybe_nan && !b.maybe_nan;
-        // Exact: one operand is the minimum (maximum) at every point.
-        if (is_min && numbers) {
-            if (a.hi < b.lo) return ia;
-            if (b.hi < a.lo) return ib;
-        }
-        if (is_max && numbers) {
-            if (a.lo > b.hi) return ia;
-            if (b.lo > a.hi) return ib;
-        }
-        if (!sign_only) return kKeep;
-        // sign(a & b) = sign(min(a, b)); sign(a | b) = sign(max(a, b)).
-        if (conj) {
-            if (a.positive()) return ib;
-            if (b.positive()) return ia;
-            if (a.negative() && !b.maybe_nan) return ia;
-            if (b.negative() && !a.maybe_nan) return ib;
-        } else {
-            if (a.negative()) return ib;
-            if (b.negative()) return ia;
-            if (a.positive() && !b.maybe_nan) return ia;
-            if (b.positive() && !a.maybe_nan) return ib;
-        }
-        return kKeep;
-    }
-
     const Grid& grid_;
     Field& field_;
     int leaf_extent_;
 };
 
-BoxTape tape_of(const Graph& graph, NodeId root) {
-    BoxTape tape;
-    std::vector<uint32_t> index(graph.size(), 0);
-    for (NodeId id : graph.reachable(root)) {
-        const Node& n = graph.node(id);
-        BoxOp o{n.op, {0, 0, 0}, n.imm};
-        for (int k = 0; k < op_arity(n.op); ++k) o.in[k] = index[n.args[k]];
-        index[id] = static_cast<uint32_t>(tape.ops.size());
-        tape.ops.push_back(o);
-    }
-    tape.root = index[root];
-    return tape;
-}
-
 }  // namespace
 
-Field sign_render(const Graph& graph, NodeId root, const Grid& grid, const EvalOptions& options,
+Field sign_render(const ir::Graph& graph, ir::NodeId root, const Grid& grid, const EvalOptions& options,
                   SignRenderStats* stats) {
     Field field;
     field.grid = grid;
@@ -336,14 +181,14 @@ Field sign_render(const Graph& graph, NodeId root, const Grid& grid, const EvalO
     // workers; then each worker takes whole boxes depth-first.
     struct Item {
         Box box;
-        std::shared_ptr<const BoxTape> tape;
+        std::shared_ptr<const Tape> tape;
     };
     struct Decided {
         Box box;
         double sign;
     };
     std::vector<Item> items{{Box{{0, 0, 0}, {grid.cols() - 1, grid.rows() - 1, grid.slices() - 1}},
-                             std::make_shared<const BoxTape>(tape_of(graph, root))}};
+                             std::make_shared<const Tape>(compile_tape(graph, TapeSpec{{root}, {}, {}, /*reuse_slots=*/false}))}};
     std::vector<Decided> decided;
     const std::size_t enough = std::size_t(16) * threads;
     for (bool split_any = true; split_any && items.size() < enough;) {
@@ -355,7 +200,7 @@ Field sign_render(const Graph& graph, NodeId root, const Grid& grid, const EvalO
                 children[i].push_back(item);
                 return std::size_t{0};
             }
-            auto simplified = std::make_shared<BoxTape>();
+            auto simplified = std::make_shared<Tape>();
             signs[i] = renderer.decide(item.box, *item.tape, scratch[worker], *simplified, worker_stats[worker]);
             if (!signs[i])
                 for (const Box& child : Renderer::split(item.box)) children[i].push_back({child, simplified});

@@ -4,10 +4,11 @@
 // Why: a sign image or a contour does not need every value. Each box of the grid is
 // evaluated once with interval arithmetic (interval.hpp); a box whose range excludes 0 gets
 // one sign without touching its points; otherwise the tape is simplified for the box and
-// its sub-boxes (performance-notes.md ideas 4-7): a min/max whose one operand wins over the
-// whole box becomes that operand, and a node whose value matters only through its sign
-// (its users are R-operations, min, max, neg) collapses by sign(a &α b) = sign(min(a, b)),
-// sign(a |α b) = sign(max(a, b)) and becomes ±1 where its own sign is decided.
+// its sub-boxes (box_simplify.hpp, performance-notes.md ideas 4-7): a min/max whose one
+// operand wins over the whole box becomes that operand, and a node whose value matters only
+// through its sign (its users are R-operations, min, max, neg) collapses by
+// sign(a &α b) = sign(min(a, b)), sign(a |α b) = sign(max(a, b)) and becomes ±1 where its
+// own sign is decided. The tapes are the voxel engine's (tape.hpp), run by its lane kernel.
 #pragma once
 
 #include "interp/engine.hpp"

@@ -90,7 +90,7 @@ Tape compile_tape(const ir::Graph& graph, const TapeSpec& spec) {
         for (int k = 0; k < arity; ++k) {
             const ir::NodeId a = n.args[k];
             const bool seen_before = std::find(n.args.begin(), n.args.begin() + k, a) != n.args.begin() + k;
-            if (computed(a) && !seen_before && last_use[a] == i) free_slots.push_back(slot[a]);
+            if (spec.reuse_slots && computed(a) && !seen_before && last_use[a] == i) free_slots.push_back(slot[a]);
         }
         ins.out = slot[id];
         tape.code.push_back(ins);

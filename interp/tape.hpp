@@ -1,4 +1,6 @@
-// interp/tape.hpp — the DAG flattened into a linear SSA tape with register allocation.
+// interp/tape.hpp — the DAG flattened into a linear SSA tape with register allocation: the
+// one tape type every evaluator walks (the voxel engine's tiles, the hoisted column and row
+// passes, the sign renderer's boxes), with one lane kernel (lane_kernel.hpp).
 //
 // Why: the voxel engine computes every node once per point, but keeping every node's
 // values for every point would cost nodes × points memory. Walking the nodes in
@@ -36,6 +38,9 @@ struct TapeSpec {
     std::vector<ir::NodeId> outputs;    ///< computed and kept to the end; [0] is the model's root
     std::vector<ir::NodeId> inputs;     ///< supplied per tile as lane arrays
     std::vector<ir::NodeId> uniforms;   ///< supplied per tile as one value (never an output)
+    /// false: SSA, one slot per value, never reused — for passes that look back at every
+    /// value, as the sign renderer's per-box simplification does (box_simplify.hpp).
+    bool reuse_slots = true;
 };
 
 /// An instruction operand that reads a uniform: the engine writes the tile's value of

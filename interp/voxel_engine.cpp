@@ -3,7 +3,7 @@
 #include "interp/voxel_engine.hpp"
 
 #include "interp/hoist.hpp"
-#include "interp/ir/kernels.hpp"
+#include "interp/lane_kernel.hpp"
 #include "interp/parallel.hpp"
 
 #include <algorithm>
@@ -12,55 +12,12 @@
 namespace fortu {
 namespace {
 
-using namespace ir;  // kernel names are used unqualified inside ops.def expressions
-
-/// Runs `code` over `lanes` points whose argument and input slots are filled; slots[s] is
-/// slot s's lane array. The switch is outside the lane loop, so each case is a tight loop
-/// the compiler vectorises (with kFixedLanes > 0 a fixed count, without remainder
-/// handling); an operand that is a constant is read from a register, one loop per
-/// combination that occurs after constant folding (none, the first or the second operand
-/// constant).
-template <class T, int kFixedLanes>
-void run_code(const Instruction* code, std::size_t count, T* const* slots, int runtime_lanes) {
-    const int lanes = kFixedLanes > 0 ? kFixedLanes : runtime_lanes;
-    for (const Instruction* ins = code; ins != code + count; ++ins) {
-        T* __restrict out = slots[ins->out];
-        const T* __restrict A = slots[ins->in[0]];
-        const T* __restrict B = slots[ins->in[1]];
-        const T* __restrict C = slots[ins->in[2]];
-        [[maybe_unused]] const double imm = ins->imm;
-        [[maybe_unused]] const T ka = T(ins->constant[0]);
-        [[maybe_unused]] const T kb = T(ins->constant[1]);
-        [[maybe_unused]] const T kc = T(ins->constant[2]);
-        const unsigned mask = ins->constant_operands;
-        switch (ins->op) {
-#define FORTU_LANES(expr, a_value, b_value, c_value)                       \
-    for (int l = 0; l < lanes; ++l) {                                      \
-        [[maybe_unused]] const T a = (a_value);                            \
-        [[maybe_unused]] const T b = (b_value);                            \
-        [[maybe_unused]] const T c = (c_value);                            \
-        [[maybe_unused]] auto get_a = value_of(a);                         \
-        [[maybe_unused]] auto get_b = value_of(b);                         \
-        out[l] = (expr);                                                   \
-    }
-#define FORTU_OP(name, arity, spelling, flags, formula_ops, sign_operands, interval, expr)          \
-    case Op::name:                                                         \
-        if (mask == 0) { FORTU_LANES(expr, A[l], B[l], C[l]) }             \
-        else if (mask == 1) { FORTU_LANES(expr, ka, B[l], C[l]) }          \
-        else if (mask == 2) { FORTU_LANES(expr, A[l], kb, C[l]) }          \
-        else { FORTU_LANES(expr, (mask & 1) ? ka : A[l], (mask & 2) ? kb : B[l], (mask & 4) ? kc : C[l]) } \
-        break;
-#include "interp/ir/ops.def"
-#undef FORTU_OP
-#undef FORTU_LANES
-        }
-    }
-}
+using namespace ir;
 
 template <class T>
 void run_code(const std::vector<Instruction>& code, T* const* slots, int lanes) {
-    if (lanes == kTileSize) run_code<T, kTileSize>(code.data(), code.size(), slots, lanes);
-    else run_code<T, 0>(code.data(), code.size(), slots, lanes);
+    if (lanes == kTileSize) run_lanes<T, kTileSize>(code.data(), code.size(), slots, lanes);
+    else run_lanes<T, 0>(code.data(), code.size(), slots, lanes);
 }
 
 /// A run of consecutive grid points evaluated together.
@@ -277,7 +234,7 @@ PointValue PointEvaluator::operator()(std::array<double, 3> point) const {
     for (uint32_t s = 0; s < tape_.slot_count; ++s) slots[s] = &values[s];
     for (auto [slot, value] : tape_.constants) values[slot] = Dual(value);
     for (auto [slot, axis] : tape_.arguments) values[slot] = Dual::variable(point[axis], axis);
-    run_code<Dual, 1>(tape_.code.data(), tape_.code.size(), slots.data(), 1);
+    run_lanes<Dual, 1>(tape_.code.data(), tape_.code.size(), slots.data(), 1);
     const Dual& r = values[tape_.root_slot];
     return PointValue{r.v, {r.d[0], r.d[1], r.d[2]}};
 }

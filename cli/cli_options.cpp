@@ -101,6 +101,8 @@ options:
   --sign-only                 compute only the sign (1 inside, 0 boundary, -1 outside, NaN
                               invalid) with the interval-pruned quadtree/octree renderer:
                               for sign pictures and contours, much faster on large models
+  --stage lower|tape|hoist    fortu ir: the lowered DAG (default), the voxel engine's tape
+                              (slots, immediates), or its column/row/per-point split
   --stats                     nodes, sharing, classic cost, time per stage, points/s,
                               invalid points, peak memory
   --threads N                 worker threads (default: all cores)
@@ -164,6 +166,12 @@ CliOptions parse_command_line(const std::vector<std::string>& args) {
         else if (a == "--float32") o.float32 = true;
         else if (a == "--sign-only") o.sign_only = true;
         else if (a == "--no-hoist") o.hoist = false;
+        else if (a == "--stage") {
+            const std::string& s = value("--stage");
+            const std::optional<IrStage> stage = parse_ir_stage(s);
+            if (!stage) throw UsageError(fmt::format("--stage: '{}' is not lower, tape or hoist", s));
+            o.stage = *stage;
+        }
         else if (a == "--precision") {
             const std::string& p = value("--precision");
             if (p == "float64") o.precision = Precision::Float64;

@@ -4,6 +4,7 @@
 
 #include "interp/engine.hpp"
 #include "interp/model.hpp"
+#include "interp/stage_print.hpp"
 
 #include <array>
 #include <optional>
@@ -37,6 +38,7 @@ struct CliOptions {
     Precision precision = Precision::Float64;  ///< --precision (voxel engine)
     bool hoist = true;                          ///< off with --no-hoist (voxel engine)
     bool sign_only = false;                    ///< --sign-only: interval-pruned sign render
+    IrStage stage = IrStage::Lower;            ///< --stage: what `fortu ir` prints
 };
 
 /// Parses argv (without the program name). Throws UsageError.

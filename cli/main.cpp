@@ -82,7 +82,7 @@ int command_ir(const CliOptions& o) {
     double seconds = 0;
     std::optional<Model> model = load_model(o, false, seconds);
     if (!model) return kExitModelError;
-    std::cout << print_ir(*model, o.positional[0]);
+    std::cout << print_stage(*model, o.positional[0], o.stage);
     return 0;
 }
 

@@ -1,0 +1,74 @@
+// tests/unit/interp_box_simplify_test.cpp — the per-box tape pass: intervals over an SSA
+// tape, and the exact tape left for a box.
+#include "interp_test_support.hpp"
+
+#include "interp/box_simplify.hpp"
+#include "interp/stage_print.hpp"
+
+#include <doctest/doctest.h>
+
+using namespace fortu;
+
+namespace {
+
+/// The tape of `text` simplified for the box X in [x0, x1], Y in [y0, y1], as text.
+std::string simplified(const std::string& text, double x0, double x1, double y0, double y1) {
+    auto c = test::compile_text(text);
+    REQUIRE_MESSAGE(c.model, c.sink.render_all());
+    const Tape tape = compile_tape(c.model->graph, TapeSpec{{c.model->root}, {}, {}, false});
+    std::vector<Interval> ranges;
+    evaluate_intervals(tape, {Interval{x0, x1, false}, Interval{y0, y1, false}, Interval{}}, ranges);
+    BoxScratch scratch;
+    Tape out;
+    simplify_for_sign(tape, ranges, scratch, out);
+    return print_tape(out, c.model->arguments);
+}
+
+}  // namespace
+
+TEST_CASE("an SSA tape: one slot per value") {
+    auto c = test::compile_text("ARGUMENT X, Y\nRETURN (X * 2 + 1) * (Y - 3)\n");
+    REQUIRE(c.model);
+    const Tape tape = compile_tape(c.model->graph, TapeSpec{{c.model->root}, {}, {}, false});
+    CHECK(print_tape(tape, c.model->arguments) ==
+          "; 4 operations, 7 slots\n"
+          "s1 = arg X\n"
+          "s2 = arg Y\n"
+          "s3 = mul s1 2\n"
+          "s4 = add s3 1\n"
+          "s5 = sub s2 3\n"
+          "s6 = mul s4 s5\n"
+          "return s6\n");
+    std::vector<Interval> ranges;
+    evaluate_intervals(tape, {Interval{0, 1, false}, Interval{4, 5, false}, Interval{}}, ranges);
+    CHECK(ranges[6].lo == 1);
+    CHECK(ranges[6].hi == 6);
+}
+
+TEST_CASE("a won MIN becomes its operand; a sign-decided R-operand leaves the other") {
+    const char* model = "ARGUMENT X, Y\nRETURN MIN(X, X + 10) & (0.5 - Y)\n";
+    // X < X + 10 everywhere, and X > 0 on the box: sign(X & W) = sign(W).
+    CHECK(simplified(model, 0.1, 0.2, 0, 1) ==
+          "; 1 operations, 3 slots\n"
+          "s1 = arg Y\n"
+          "s2 = sub 0.5 s1\n"
+          "return s2\n");
+    // X straddles 0: the MIN still goes, the R-operation stays.
+    CHECK(simplified(model, -0.1, 0.2, 0, 1) ==
+          "; 2 operations, 5 slots\n"
+          "s1 = arg X\n"
+          "s2 = arg Y\n"
+          "s3 = sub 0.5 s2\n"
+          "s4 = rand s1 s3 alpha=0\n"
+          "return s4\n");
+    // Nothing is decided on a box where X + 10 may be the minimum.
+    CHECK(simplified(model, -30, 0, 0, 1) ==
+          "; 4 operations, 7 slots\n"
+          "s1 = arg X\n"
+          "s2 = arg Y\n"
+          "s3 = add s1 10\n"
+          "s4 = min s1 s3\n"
+          "s5 = sub 0.5 s2\n"
+          "s6 = rand s4 s5 alpha=0\n"
+          "return s6\n");
+}

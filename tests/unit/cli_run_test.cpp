@@ -50,6 +50,19 @@ TEST_CASE("usage errors exit 2 with a clear message") {
     CHECK(run_fortu("--help", ".", true).status == 0);
 }
 
+TEST_CASE("--help and golden --help list the output formats of the table") {
+    const std::string help = run_fortu("--help", ".", true).out;
+    CHECK(help.find("  -o FILE                     " + output_formats_usage(30) + "\n") != std::string::npos);
+    std::string kinds;
+    for (const std::string& kind : golden_output_kinds()) kinds += (kinds.empty() ? "" : " ") + kind;
+    const std::string golden_help = run_fortu("golden --help", ".", true).out;
+    CHECK(golden_help.find("references --update creates; KIND: " + kinds + "\n") != std::string::npos);
+    for (const OutputFormat& format : output_formats()) {
+        CAPTURE(format.name);
+        CHECK(help.find(" ." + std::string(format.extension())) != std::string::npos);
+    }
+}
+
 TEST_CASE("an unreadable model is a clear error, exit 1") {
     TempDir t;
     auto r = run_fortu("check " + quote((t.path / "missing.fortu").string()));

@@ -88,9 +88,9 @@ options:
   --engine voxel|classic      voxel: functional-voxel composition, every node once per
                               point (default); classic: recursive, nothing saved
   --rsystem r0|alpha=A|minmax the R-system of & and | (wins over RSYSTEM in the script)
-  -o FILE                     .png .jpg .tif .bmp (picture), .exr (value + n1..n4 channels),
-                              .npy, .csv; 3D pictures: a slice, or one file per slice
-                              when FILE contains %d
+  -o FILE                     )" + output_formats_usage(30) + R"(
+                              3D pictures: a slice, or one file per slice when FILE
+                              contains %d
   --slice K                   the z slice of a 3D picture (default: the middle one)
   --mimages FILE              the M-images: FILE.exr, or FILE_%d.png for grey PNGs
   --float32                   .npy as float32 instead of float64
@@ -195,7 +195,7 @@ CliOptions parse_command_line(const std::vector<std::string>& args) {
     if (!o.mimages.empty())
         if (auto problem = mimages_path_problem(o.mimages))
             throw UsageError(fmt::format("--mimages: {}", *problem));
-    if (!o.contour.empty() && output_format_for(o.contour) != OutputFormat::Svg)
+    if (!o.contour.empty() && (!output_format_for(o.contour) || output_format_for(o.contour)->kind != OutputKind::Contour))
         throw UsageError(fmt::format("--contour: '{}' must be an .svg file", o.contour));
 
     if (o.sign_only && o.engine == EngineKind::Classic)

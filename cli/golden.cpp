@@ -5,6 +5,7 @@
 #include "cli/commands.hpp"
 #include "cli/golden_run.hpp"
 #include "cli/golden_spec.hpp"
+#include "runtime/output_formats.hpp"
 
 #include <fmt/format.h>
 
@@ -22,7 +23,7 @@ constexpr const char* kGoldenUsage =
 
 constexpr const char* kGoldenHelp = R"(
 A golden test is a .fortu script with expectations in its comments, and/or reference files
-beside it (NAME.expected.png|exr|npy|csv|svg, made and refreshed by --update):
+beside it (NAME.expected.{bar}, made and refreshed by --update):
   // expect-value X Y[ Z]: VALUE [+- TOL]    the value at a point (TOL: golden-tolerance)
   // expect-inside X Y[ Z]                   value > 0 (also expect-outside < 0,
                                              expect-boundary = 0)
@@ -32,7 +33,7 @@ beside it (NAME.expected.png|exr|npy|csv|svg, made and refreshed by --update):
   // golden-size N | WxH | WxHxD ...         default RECTBMP, else 64x64 (2D), 16x16x16 (3D)
   // golden-tolerance T                      values, npy, csv, svg, exr (default 1e-9)
   // golden-pixel-tolerance L                png, in 8-bit levels (default 0)
-  // golden-output png exr npy csv svg       references --update creates
+  // golden-output KIND...                   references --update creates; KIND: {spaced}
 A NAME.golden manifest runs scripts kept elsewhere (`scripts ../models/*.fortu`, then
 directives without `//`, or `STEM: directive` for one script); references sit beside it.
 Output: PASS/FAIL/UPDATE per test, then `T tests: N passed, M failed`; exit 0 iff all pass.
@@ -108,7 +109,9 @@ std::string report(const std::string& name, const GoldenResult& r) {
 int run_golden_command(const std::vector<std::string>& args) {
     const GoldenCommand command = parse_golden_arguments(args);
     if (command.help) {
-        std::cout << kGoldenUsage << "\n" << kGoldenHelp;
+        std::cout << kGoldenUsage << "\n"
+                  << fmt::format(fmt::runtime(kGoldenHelp), fmt::arg("bar", fmt::join(golden_output_kinds(), "|")),
+                                 fmt::arg("spaced", fmt::join(golden_output_kinds(), " ")));
         return 0;
     }
     std::vector<GoldenTest> tests;

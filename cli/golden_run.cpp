@@ -4,15 +4,14 @@
 // the test (NAME.actual.EXT, NAME.diff.EXT) when they differ.
 #include "cli/golden_run.hpp"
 
-#include "cli/golden_compare.hpp"
 #include "grammar/diagnostic.hpp"
 #include "interp/classic_cost.hpp"
 #include "interp/ir_print.hpp"
 #include "interp/lower.hpp"
 #include "interp/singular.hpp"
 #include "runtime/atomic_file.hpp"
-#include "runtime/image_compare.hpp"
 #include "runtime/output.hpp"
+#include "runtime/output_formats.hpp"
 #include "runtime/output_error.hpp"
 #include "runtime/resources.hpp"
 
@@ -167,16 +166,6 @@ PointExpectation::Kind kind_of_value(double v) {
                                                           : PointExpectation::Kind::Boundary;
 }
 
-std::string pixel_text(const std::vector<float>& values, const std::vector<std::string>& channels, bool picture) {
-    std::string s;
-    for (std::size_t c = 0; c < values.size(); ++c) {
-        if (!s.empty()) s += ", ";
-        if (picture) s += fmt::format("{}", static_cast<int>(std::lround(values[c] * 255.0f)));
-        else s += fmt::format("{}={}", c < channels.size() ? channels[c] : fmt::format("c{}", c), values[c]);
-    }
-    return "(" + s + ")";
-}
-
 /// The run of one test, its messages gathered as it goes.
 class TestRun {
 public:
@@ -197,10 +186,10 @@ private:
     std::string beside(const std::string& what, const std::string& kind) const {
         return test_.expected_stem + "." + what + "." + kind;
     }
-    /// Where a failure's picture of the difference goes: NAME.diff.png|exr for images,
-    /// NAME.values-diff.png for .npy values.
-    std::string diff_path(const std::string& kind) const {
-        return kind == "npy" ? beside("values-diff", "png") : beside("diff", kind);
+    /// Where a failure's picture of the difference goes (the row's diff_name: NAME.diff.png,
+    /// NAME.values-diff.png for .npy values, ...); "" for formats that draw none.
+    std::string diff_path(const OutputFormat& format) const {
+        return format.diff_name.empty() ? "" : test_.expected_stem + "." + std::string(format.diff_name);
     }
     void updated(std::string what) { updates_.push_back(std::move(what)); }
 
@@ -333,44 +322,22 @@ void TestRun::check_file(const Field& field, const std::string& kind, const std:
     if (temp_.path().empty()) return fail("cannot make a temporary folder for the new outputs");
     if (std::string e = write_actual(actual); !e.empty()) return fail(e);
 
-    std::string difference;
-    int diff_subimage = -1;
+    const OutputFormat& format = *golden_output_format(kind);
+    const ComparedOutput compared{format, expected, actual, field, test_.tolerance, test_.pixel_tolerance};
+    OutputComparison comparison;
     if (!exists && !options_.update) {
         if (first_engine) fail(fmt::format("{} is missing (run with --update to create it)", expected));
         return;
     }
-    if (!exists) {
-        difference = "missing";
-    } else if (kind == "npy") {
-        difference = compare_npy(expected, field, test_.tolerance).difference;
-    } else if (kind == "csv" || kind == "svg") {
-        difference = compare_numeric_text(expected, actual, test_.tolerance).difference;
-    } else {
-        const bool picture = kind == "png";
-        const double tol = picture ? (test_.pixel_tolerance + 0.5) / 255.0 : test_.tolerance;
-        const ImageComparison c = compare_images(expected, actual, tol);
-        if (!c.error.empty()) {
-            difference = fmt::format("cannot be compared: {}", c.error);
-        } else if (c.failing > 0) {
-            const std::string where = field.grid.dims == 3 && !picture
-                ? fmt::format("pixel ({}, {}) of slice {}", c.worst_x, c.worst_y, c.worst_subimage)
-                : fmt::format("pixel ({}, {})", c.worst_x, c.worst_y);
-            difference = fmt::format(
-                "{} of {} pixels differ by more than {} (max error {}); worst at {} (x {}, y {}): expected {}, got {}",
-                format_count(c.failing), format_count(c.pixels),
-                picture ? fmt::format("{} level(s)", test_.pixel_tolerance) : fmt::format("{}", test_.tolerance),
-                picture ? fmt::format("{} levels", std::lround(c.max_error * 255.0)) : fmt::format("{}", static_cast<float>(c.max_error)),
-                where, field.grid.x_at(c.worst_x), field.grid.y_at(c.worst_y),
-                pixel_text(c.expected, c.channels, picture), pixel_text(c.actual, c.channels, picture));
-            diff_subimage = c.worst_subimage;
-        }
-    }
+    if (!exists) comparison.difference = "missing";
+    else comparison = format.compare(compared);
+    const std::string& difference = comparison.difference;
     std::error_code ec;
     if (difference.empty()) {
         // A pass clears what an earlier failure left beside the test.
         if (first_engine) {
             fs::remove(beside("actual", kind), ec);
-            fs::remove(diff_path(kind), ec);
+            if (!diff_path(format).empty()) fs::remove(diff_path(format), ec);
         }
         return;
     }
@@ -378,34 +345,18 @@ void TestRun::check_file(const Field& field, const std::string& kind, const std:
         if (!first_engine) return;  // the reference comes from the first engine; a second run checks the rest
         if (std::string e = write_actual(expected); !e.empty()) return fail(e);
         fs::remove(beside("actual", kind), ec);
-        fs::remove(diff_path(kind), ec);
+        if (!diff_path(format).empty()) fs::remove(diff_path(format), ec);
         return updated(fs::path(expected).filename().string());
     }
     std::string message = fmt::format("{} ({}): {}", fs::path(expected).filename().string(), label, difference);
     if (std::string e = write_actual(beside("actual", kind)); e.empty())
         message += fmt::format("\n  new output: {}", beside("actual", kind));
-    if (diff_subimage >= 0) {
-        const std::string diff = diff_path(kind);
-        if (std::string e = write_diff_image(expected, actual, diff_subimage, diff); e.empty())
+    if (exists && comparison.diff_subimage >= 0 && format.write_diff) {
+        const std::string diff = diff_path(format);
+        if (std::string e = format.write_diff(compared, comparison, diff); e.empty())
             message += fmt::format("\n  diff image: {}", diff);
         else
             message += fmt::format("\n  no diff image: {}", e);
-    } else if (kind == "npy" && exists) {
-        // The difference as a picture, |expected - actual| per node, when the reference is
-        // readable at all (equal nodes cream, the largest differences deep orange).
-        if (auto reference = read_npy_values(expected, field.grid)) {
-            Field diff = field;
-            for (std::size_t i = 0; i < diff.values.size(); ++i)
-                diff.values[i] = std::fabs((*reference)[i] - field.values[i]);
-            OutputOptions picture;
-            picture.draw_contour = false;
-            try {
-                write_field(diff, diff_path(kind), picture);
-                message += fmt::format("\n  diff image: {}", diff_path(kind));
-            } catch (const OutputError& e) {
-                message += fmt::format("\n  no diff image: {}", e.what());
-            }
-        }
     }
     fail(message);
 }
@@ -488,13 +439,15 @@ GoldenResult TestRun::run() {
     if (!text) return {Status::Fail, {fmt::format("cannot read '{}'", test_.script)}};
     script_lines_ = split_lines(*text);
 
-    for (const char* kind : kGoldenFileKinds)
+    const std::vector<std::string> kinds = golden_output_kinds();
+    for (const std::string& kind : kinds)
         if (fs::exists(expected_path(kind)) ||
             std::find(test_.outputs.begin(), test_.outputs.end(), kind) != test_.outputs.end())
-            kinds_.emplace_back(kind);
+            kinds_.push_back(kind);
     if (test_.errors.empty() && test_.points.empty() && test_.singular.empty() && kinds_.empty())
-        return {Status::Fail, {"no expectations: add `// expect-...` lines, or NAME.expected.{png,exr,npy,csv,svg} "
-                               "files or `// golden-output` for --update to create"}};
+        return {Status::Fail, {fmt::format("no expectations: add `// expect-...` lines, or NAME.expected.{{{}}} "
+                                           "files or `// golden-output` for --update to create",
+                                           fmt::join(kinds, ","))}};
     if (!test_.errors.empty() && (!test_.points.empty() || !test_.singular.empty() || !kinds_.empty()))
         return {Status::Fail, {"expect-error cannot be combined with other expectations (a model with errors "
                                "produces nothing)"}};

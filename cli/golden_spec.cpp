@@ -3,6 +3,7 @@
 #include "cli/golden_spec.hpp"
 
 #include "cli/cli_options.hpp"
+#include "runtime/output_formats.hpp"
 
 #include <fmt/format.h>
 
@@ -295,10 +296,10 @@ std::string apply_directive(GoldenTest& t, const std::string& directive, int lin
         return "";
     }
     if (keyword == "golden-output") {
-        if (args.empty()) return "golden-output wants one or more of png, exr, npy, csv, svg";
+        const std::string kinds = fmt::format("{}", fmt::join(golden_output_kinds(), ", "));
+        if (args.empty()) return fmt::format("golden-output wants one or more of {}", kinds);
         for (const std::string& kind : args) {
-            if (std::find(kGoldenFileKinds.begin(), kGoldenFileKinds.end(), kind) == kGoldenFileKinds.end())
-                return fmt::format("golden-output: '{}' is not one of png, exr, npy, csv, svg", kind);
+            if (!golden_output_format(kind)) return fmt::format("golden-output: '{}' is not one of {}", kind, kinds);
             if (std::find(t.outputs.begin(), t.outputs.end(), kind) == t.outputs.end()) t.outputs.push_back(kind);
         }
         return "";

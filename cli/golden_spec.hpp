@@ -35,9 +35,6 @@ struct SingularExpectation {
     std::vector<std::array<double, 3>> points;
 };
 
-/// The reference files a test may have beside it: NAME.expected.EXT.
-inline constexpr std::array<const char*, 5> kGoldenFileKinds{"png", "exr", "npy", "csv", "svg"};
-
 /// One golden test: a script plus what it must produce.
 struct GoldenTest {
     std::string name;          ///< as printed: the script path, or MANIFEST:STEM

@@ -15,7 +15,6 @@
 #include "runtime/field_stats.hpp"
 #include "runtime/fv_model.hpp"
 #include "runtime/output.hpp"
-#include "runtime/contour.hpp"
 #include "runtime/output_error.hpp"
 #include "runtime/progress.hpp"
 #include "runtime/resources.hpp"
@@ -224,7 +223,7 @@ int command_run(const CliOptions& o) {
     try {
         if (!o.output.empty()) write_field(field, o.output, out);
         if (!o.mimages.empty()) write_mimages(field, o.mimages, out);
-        if (!o.contour.empty()) write_contour_svg(field, o.contour, out);
+        if (!o.contour.empty()) write_field(field, o.contour, out);
     } catch (const OutputError& e) {
         std::cerr << fmt::format("fortu: error: {}\n", e.what());
         return kExitModelError;

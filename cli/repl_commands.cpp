@@ -72,7 +72,7 @@ std::string Repl::help_text() {
            "probe point (the last :eval point).\n"
            "  :eval X Y [Z]          value, gradient, M-image normal at a point (and make it the probe)\n"
            "  :show                  draw the model in the terminal\n"
-           "  :render FILE           write the image (.png .jpg .tif .bmp .exr .npy .csv .svg) as `fortu run -o`\n"
+           "  :render FILE           write the image (" + output_extensions_text() + ") as `fortu run -o`\n"
            "  :domain [XMIN XMAX YMIN YMAX [ZMIN ZMAX] | default]   show or set the domain\n"
            "  :size [W [H [D]] | default]                          show or set the grid nodes of :render\n"
            "  :engine [classic|voxel]  show or choose the engine\n"

@@ -3,6 +3,7 @@
 
 #include "grammar/ast.hpp"
 #include "grammar/parse.hpp"
+#include "interp/source_loader.hpp"
 #include "runtime/image_table.hpp"
 
 #include <algorithm>
@@ -140,10 +141,11 @@ enum class Context { Constant, Variable };
 class Lowerer {
 public:
     Lowerer(const CompileOptions& options, DiagnosticSink& sink, Model& model)
-        : options_(options), sink_(sink), model_(model), graph_(model.graph) {}
+        : options_(options), loader_(options.loader ? *options.loader : disk_source_loader()), sink_(sink),
+          model_(model), graph_(model.graph) {}
 
     void run(const std::shared_ptr<const SourceFile>& source) {
-        included_.insert(canonical(source->path()));
+        included_.insert(loader_.identity(source->path()));
         const int errors_before = sink_.error_count();
         ast::Script script = parse_script(*source, sink_);
         // Syntax errors leave holes in the tree (a definition lost to recovery); checking
@@ -300,7 +302,7 @@ private:
         if (path.is_relative() && file.range.file)
             path = std::filesystem::path(file.range.file->path()).parent_path() / path;
         std::string error;
-        std::optional<ImageTable> table = read_image_table(path.string(), error);
+        std::optional<ImageTable> table = loader_.load_image(path.string(), error);
         if (!table) {
             sink_.error(file.range, fmt::format("cannot read image '{}': {}", file.name, error));
             syntax_errors_ = true;  // stop: every use of the table would fail after this
@@ -455,12 +457,11 @@ private:
             for (const std::string& dir : options_.include_dirs) candidates.push_back(std::filesystem::path(dir) / relative);
         }
         for (const auto& candidate : candidates) {
-            std::error_code ec;
-            if (!std::filesystem::is_regular_file(candidate, ec)) continue;
-            const std::string key = canonical(candidate.string());
+            if (!loader_.exists(candidate.string())) continue;
+            const std::string key = loader_.identity(candidate.string());
             if (included_.count(key)) return;  // each file once: includes are libraries
             std::string error;
-            auto source = SourceFile::load(candidate.string(), error);
+            auto source = loader_.load_script(candidate.string(), error);
             if (!source) {
                 sink_.error(statement.range, fmt::format("cannot include '{}': {}", inc.path, error));
                 return;
@@ -788,17 +789,13 @@ private:
         int col = static_cast<int>(source.line(line).size()) + 1;
         return {&source, {line, col}, {line, col}};
     }
-    static std::string canonical(const std::string& path) {
-        std::error_code ec;
-        auto c = std::filesystem::weakly_canonical(path, ec);
-        return ec ? path : c.string();
-    }
 
     static constexpr int kMaxErrors = 50;
     static constexpr std::size_t kMaxImageNodes = 128 * 128;   ///< height-map pixels (BILINEAR sums them all)
     static constexpr long kMaxLoopIterations = 1'000'000;
 
     const CompileOptions& options_;
+    const SourceLoader& loader_;
     DiagnosticSink& sink_;
     Model& model_;
     ir::Graph& graph_;

@@ -10,6 +10,7 @@
 #include "grammar/diagnostic.hpp"
 #include "grammar/source.hpp"
 #include "interp/model.hpp"
+#include "interp/source_loader.hpp"
 
 #include <memory>
 #include <optional>
@@ -23,6 +24,8 @@ struct CompileOptions {
     std::optional<RSystem> rsystem;
     /// Folders searched by INCLUDE after the script's own folder (the installed stdlib).
     std::vector<std::string> include_dirs;
+    /// Reads INCLUDE'd scripts and IMAGE pictures; nullptr = from disk (disk_source_loader()).
+    const SourceLoader* loader = nullptr;
 };
 
 /// The installed stdlib folders: `stdlib/` next to the running binary, then one level up

@@ -5,7 +5,6 @@
 
 #include "runtime/atomic_file.hpp"
 #include "runtime/output_error.hpp"
-#include "runtime/output_path.hpp"
 #include "runtime/picture.hpp"
 
 #include <fmt/format.h>
@@ -178,16 +177,16 @@ std::vector<Polyline> zero_contour(const Field& field, int slice) {
     return ContourBuilder(field, slice).build();
 }
 
-void write_contour_svg(const Field& field, const std::string& path, const OutputOptions& options) {
+void write_contour_svg(const Field& field, const OutputTarget& target, const OutputOptions& options) {
     const Grid& g = field.grid;
-    if (g.dims == 3 && is_file_series(path)) {
-        for (int s = 0; s < g.slices(); ++s) write_svg(field, s, file_series_name(path, s));
+    if (g.dims == 3 && target.series) {
+        for (int s = 0; s < g.slices(); ++s) write_svg(field, s, target.file(s));
         return;
     }
     const int slice = picture_slice(g, options.slice);
     if (slice < 0)
-        throw OutputError(path, fmt::format("slice {} is out of range 0..{}", options.slice, g.slices() - 1));
-    write_svg(field, slice, is_file_series(path) ? file_series_name(path, slice) : path);
+        throw OutputError(target.path, fmt::format("slice {} is out of range 0..{}", options.slice, g.slices() - 1));
+    write_svg(field, slice, target.file(slice));
 }
 
 }  // namespace fortu

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "runtime/field.hpp"
+#include "runtime/output_formats.hpp"
 #include "runtime/output_options.hpp"
 
 #include <array>
@@ -29,7 +30,7 @@ std::vector<Polyline> zero_contour(const Field& field, int slice = 0);
 /// Writes the zero contour as SVG: one <polyline> per chain (a closed chain repeats its first
 /// point), in world coordinates under a `scale(1,-1)` transform so Y points up, the viewBox
 /// being the domain, with a non-scaling 1.5 px black stroke. 3D: the slice options.slice
-/// (middle by default), or every slice for a series path. Throws OutputError.
-void write_contour_svg(const Field& field, const std::string& path, const OutputOptions& options = {});
+/// (middle by default), or every slice for a series target. Throws OutputError.
+void write_contour_svg(const Field& field, const OutputTarget& target, const OutputOptions& options);
 
 }  // namespace fortu

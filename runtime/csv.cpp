@@ -24,7 +24,8 @@ void append_number(fmt::memory_buffer& out, double v) {
 
 }  // namespace
 
-void write_csv(const Field& field, const std::string& path) {
+void write_csv(const Field& field, const OutputTarget& target, const OutputOptions&) {
+    const std::string& path = target.path;
     const Grid& g = field.grid;
     write_file_atomically(path, [&](OutputFile& file) {
         fmt::memory_buffer out;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "runtime/field.hpp"
+#include "runtime/output_formats.hpp"
 
 #include <string>
 
@@ -11,6 +12,6 @@ namespace fortu {
 /// Writes the header line, then one line per node in image order (slice, row, col), every
 /// number with 17 significant digits (`%.17g`, which round-trips a double) and non-finite
 /// values as `nan`, `inf`, `-inf`. Throws OutputError.
-void write_csv(const Field& field, const std::string& path);
+void write_csv(const Field& field, const OutputTarget& target, const OutputOptions& options = {});
 
 }  // namespace fortu

@@ -5,7 +5,6 @@
 #include "runtime/fv_model.hpp"
 #include "runtime/oiio_util.hpp"
 #include "runtime/output_error.hpp"
-#include "runtime/output_path.hpp"
 
 #include "runtime/image_io.hpp"
 #include <fmt/format.h>
@@ -68,13 +67,13 @@ std::vector<std::string> exr_channel_names(const Grid& grid) {
     return {"value", "n1", "n2", "n3", "n4"};
 }
 
-void write_exr(const Field& field, const std::string& path) {
+void write_exr(const Field& field, const OutputTarget& target, const OutputOptions&) {
     const Grid& g = field.grid;
-    if (g.dims == 3 && is_file_series(path)) {
-        for (int s = 0; s < g.slices(); ++s) write_parts(field, file_series_name(path, s), s, 1);
+    if (g.dims == 3 && target.series) {
+        for (int s = 0; s < g.slices(); ++s) write_parts(field, target.file(s), s, 1);
         return;
     }
-    write_parts(field, is_file_series(path) ? file_series_name(path, 0) : path, 0, g.slices());
+    write_parts(field, target.file(0), 0, g.slices());
 }
 
 }  // namespace fortu

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "runtime/field.hpp"
+#include "runtime/output_formats.hpp"
 
 #include <string>
 #include <vector>
@@ -15,10 +16,10 @@ std::vector<std::string> exr_channel_names(const Grid& grid);
 
 /// Writes `field` and its FV model as 32-bit float channels exr_channel_names(), NaN at
 /// invalid points. 3D: one subimage (EXR part) per z slice, from the smallest Z, named
-/// `z0000`, `z0001`, … with the float attribute `fortu:z`; a series path (`vol_%03d.exr`)
+/// `z0000`, `z0001`, … with the float attribute `fortu:z`; a series target (`vol_%03d.exr`)
 /// writes one single-part file per slice instead. Every file carries the string attribute
 /// `fortu:domain` = `x0:x1,y0:y1[,z0:z1]`. The FV model is computed slice by slice, so memory
 /// stays one slice of floats. Throws OutputError.
-void write_exr(const Field& field, const std::string& path);
+void write_exr(const Field& field, const OutputTarget& target, const OutputOptions& options = {});
 
 }  // namespace fortu

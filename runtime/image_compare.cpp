@@ -8,10 +8,12 @@
 #include "runtime/image_io.hpp"
 #include "runtime/oiio_util.hpp"
 #include "runtime/output_error.hpp"
+#include "runtime/resources.hpp"
 
 #include <fmt/format.h>
 
 #include <array>
+#include <cmath>
 #include <cctype>
 #include <cstdint>
 #include <fstream>
@@ -63,6 +65,16 @@ bool is_png(const std::string& path) {
     return path.size() >= 4 && (path.compare(path.size() - 4, 4, ".png") == 0 || path.compare(path.size() - 4, 4, ".PNG") == 0);
 }
 
+std::string pixel_text(const std::vector<float>& values, const std::vector<std::string>& channels, bool picture) {
+    std::string s;
+    for (std::size_t c = 0; c < values.size(); ++c) {
+        if (!s.empty()) s += ", ";
+        if (picture) s += fmt::format("{}", static_cast<int>(std::lround(values[c] * 255.0f)));
+        else s += fmt::format("{}={}", c < channels.size() ? channels[c] : fmt::format("c{}", c), values[c]);
+    }
+    return "(" + s + ")";
+}
+
 }  // namespace
 
 ImageComparison compare_images(const std::string& expected_path, const std::string& actual_path,
@@ -90,6 +102,31 @@ std::string write_diff_image(const std::string& expected_path, const std::string
         return e.what();
     }
     return "";
+}
+
+OutputComparison compare_image_output(const ComparedOutput& compared) {
+    const bool picture = compared.format.kind == OutputKind::Picture;
+    const double tol = picture ? (compared.pixel_tolerance + 0.5) / 255.0 : compared.tolerance;
+    const ImageComparison c = compare_images(compared.expected_path, compared.actual_path, tol);
+    if (!c.error.empty()) return {fmt::format("cannot be compared: {}", c.error)};
+    if (c.failing == 0) return {};
+    const Grid& grid = compared.field.grid;
+    const std::string where = grid.dims == 3 && !picture
+        ? fmt::format("pixel ({}, {}) of slice {}", c.worst_x, c.worst_y, c.worst_subimage)
+        : fmt::format("pixel ({}, {})", c.worst_x, c.worst_y);
+    return {fmt::format(
+                "{} of {} pixels differ by more than {} (max error {}); worst at {} (x {}, y {}): expected {}, got {}",
+                format_count(c.failing), format_count(c.pixels),
+                picture ? fmt::format("{} level(s)", compared.pixel_tolerance) : fmt::format("{}", compared.tolerance),
+                picture ? fmt::format("{} levels", std::lround(c.max_error * 255.0)) : fmt::format("{}", static_cast<float>(c.max_error)),
+                where, grid.x_at(c.worst_x), grid.y_at(c.worst_y), pixel_text(c.expected, c.channels, picture),
+                pixel_text(c.actual, c.channels, picture)),
+            c.worst_subimage};
+}
+
+std::string write_image_output_diff(const ComparedOutput& compared, const OutputComparison& comparison,
+                                    const std::string& diff_path) {
+    return write_diff_image(compared.expected_path, compared.actual_path, comparison.diff_subimage, diff_path);
 }
 
 }  // namespace fortu

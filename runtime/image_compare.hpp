@@ -3,6 +3,8 @@
 // (style.md rule 9). The OpenImageIO code runs inside the image module (image_io.hpp).
 #pragma once
 
+#include "runtime/output_formats.hpp"
+
 #include <string>
 #include <vector>
 
@@ -35,6 +37,16 @@ ImageComparison compare_images(const std::string& expected_path, const std::stri
 /// Returns an error text, or "" on success. Written atomically.
 std::string write_diff_image(const std::string& expected_path, const std::string& actual_path,
                              int subimage, const std::string& diff_path);
+
+/// The golden comparator of pictures and EXR files: compare_images() with the pixel
+/// tolerance (pictures, in 8-bit levels) or the value tolerance (EXR), its verdict in words:
+/// failing pixels, the largest error, the worst pixel with its world coordinates and both
+/// values (pictures as 8-bit levels, EXR as `channel=value`).
+OutputComparison compare_image_output(const ComparedOutput& compared);
+
+/// write_diff_image() of the worst subimage of a failed compare_image_output().
+std::string write_image_output_diff(const ComparedOutput& compared, const OutputComparison& comparison,
+                                    const std::string& diff_path);
 
 /// The module side of the two functions above (image_compare_oiio.cpp, in libfortu_image.so):
 /// plain OpenImageIO, writing the difference straight to `file`.

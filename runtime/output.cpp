@@ -1,12 +1,8 @@
-// runtime/output.cpp — the extension table, the dispatch to the per-format writers, and the
+// runtime/output.cpp — the dispatch to the writer of output_formats.hpp's row, and the
 // M-images (fv-method.md §1: n+2 palette images or one float EXR).
 #include "runtime/output.hpp"
 
-#include "runtime/contour.hpp"
-#include "runtime/csv.hpp"
-#include "runtime/exr.hpp"
 #include "runtime/fv_model.hpp"
-#include "runtime/npy.hpp"
 #include "runtime/output_error.hpp"
 #include "runtime/output_path.hpp"
 #include "runtime/palette.hpp"
@@ -14,24 +10,10 @@
 
 #include <fmt/format.h>
 
-#include <array>
 #include <cstdint>
 
 namespace fortu {
 namespace {
-
-struct ExtensionEntry {
-    std::string_view extension;
-    OutputFormat format;
-};
-
-constexpr std::array kExtensions{
-    ExtensionEntry{"png", OutputFormat::Png},  ExtensionEntry{"jpg", OutputFormat::Jpeg},
-    ExtensionEntry{"jpeg", OutputFormat::Jpeg}, ExtensionEntry{"tif", OutputFormat::Tiff},
-    ExtensionEntry{"tiff", OutputFormat::Tiff}, ExtensionEntry{"bmp", OutputFormat::Bmp},
-    ExtensionEntry{"exr", OutputFormat::Exr},  ExtensionEntry{"npy", OutputFormat::Npy},
-    ExtensionEntry{"csv", OutputFormat::Csv},  ExtensionEntry{"svg", OutputFormat::Svg},
-};
 
 void check_field(const Field& field, const std::string& path) {
     const Grid& g = field.grid;
@@ -69,62 +51,21 @@ std::vector<std::vector<std::uint8_t>> mimage_pixels(const Field& field, int sli
 
 }  // namespace
 
-std::optional<OutputFormat> output_format_for(const std::string& path) {
-    const std::string ext = path_extension(path);
-    for (const auto& entry : kExtensions)
-        if (entry.extension == ext) return entry.format;
-    return std::nullopt;
-}
-
-std::vector<std::string> supported_output_extensions() {
-    std::vector<std::string> out;
-    for (const auto& entry : kExtensions) out.emplace_back(entry.extension);
-    return out;
-}
-
-std::string_view output_format_name(OutputFormat format) {
-    switch (format) {
-        case OutputFormat::Png: return "PNG";
-        case OutputFormat::Jpeg: return "JPEG";
-        case OutputFormat::Tiff: return "TIFF";
-        case OutputFormat::Bmp: return "BMP";
-        case OutputFormat::Exr: return "OpenEXR";
-        case OutputFormat::Npy: return "NumPy";
-        case OutputFormat::Csv: return "CSV";
-        case OutputFormat::Svg: return "SVG";
-    }
-    return "?";
-}
-
-bool is_picture_format(OutputFormat format) {
-    return format == OutputFormat::Png || format == OutputFormat::Jpeg || format == OutputFormat::Tiff ||
-           format == OutputFormat::Bmp;
-}
-
 void write_field(const Field& field, const std::string& path, const OutputOptions& options) {
-    const auto format = output_format_for(path);
-    if (!format) {
-        throw OutputError(path, fmt::format("unknown output format '.{}' (known: {})", path_extension(path),
-                                            fmt::join(supported_output_extensions(), ", ")));
-    }
-    check_field(field, path);
-    switch (*format) {
-        case OutputFormat::Png:
-        case OutputFormat::Jpeg:
-        case OutputFormat::Tiff:
-        case OutputFormat::Bmp: write_picture(field, path, options); return;
-        case OutputFormat::Exr: write_exr(field, path); return;
-        case OutputFormat::Npy: write_npy(field, path, options.npy_float32); return;
-        case OutputFormat::Csv: write_csv(field, path); return;
-        case OutputFormat::Svg: write_contour_svg(field, path, options); return;
-    }
+    write_field(field, resolve_output(path), options);
+}
+
+void write_field(const Field& field, const OutputTarget& target, const OutputOptions& options) {
+    check_field(field, target.path);
+    target.format->write(field, target, options);
 }
 
 std::optional<std::string> mimages_path_problem(const std::string& path) {
-    const auto format = output_format_for(path);
-    if (format == OutputFormat::Exr) return std::nullopt;
-    if (format == OutputFormat::Jpeg) return "JPEG is lossy and would corrupt the M-image codes; use .png";
-    if (!format || !is_picture_format(*format))
+    const OutputFormat* format = output_format_for(path);
+    if (format && format->kind == OutputKind::MImages) return std::nullopt;
+    if (format && format->kind == OutputKind::Picture && format->lossy)
+        return fmt::format("{} is lossy and would corrupt the M-image codes; use .png", format->name);
+    if (!format || format->kind != OutputKind::Picture)
         return "M-images need a .exr file or a picture series such as 'm_%d.png'";
     if (!is_file_series(path))
         return "M-images are n+2 pictures: put %d in the name (e.g. 'm_%d.png') or use .exr";
@@ -134,8 +75,9 @@ std::optional<std::string> mimages_path_problem(const std::string& path) {
 void write_mimages(const Field& field, const std::string& path, const OutputOptions& options) {
     if (const auto problem = mimages_path_problem(path)) throw OutputError(path, *problem);
     check_field(field, path);
-    if (output_format_for(path) == OutputFormat::Exr) {
-        write_exr(field, path);
+    const OutputTarget target = resolve_output(path);
+    if (target.format->kind == OutputKind::MImages) {
+        target.format->write(field, target, options);
         return;
     }
     const Grid& g = field.grid;
@@ -145,7 +87,7 @@ void write_mimages(const Field& field, const std::string& path, const OutputOpti
     const int channels = options.mimage_palette == Palette::Grey8 ? 1 : 3;
     const auto images = mimage_pixels(field, slice, options.mimage_palette);
     for (std::size_t k = 0; k < images.size(); ++k)
-        write_image_8bit(file_series_name(path, static_cast<int>(k) + 1), g.cols(), g.rows(), channels,
+        write_image_8bit(target.file(static_cast<int>(k) + 1), g.cols(), g.rows(), channels,
                          images[k], options);
 }
 

@@ -1,9 +1,10 @@
 // runtime/output.hpp — writing a sampled Field to the file a user named: the format follows
 // the extension (architecture.md "Outputs a user expects"); every file is written atomically.
-// The per-format writers live in picture/exr/npy/csv/contour .hpp.
+// The formats and their writers are listed in output_formats.hpp.
 #pragma once
 
 #include "runtime/field.hpp"
+#include "runtime/output_formats.hpp"
 #include "runtime/output_options.hpp"
 
 #include <optional>
@@ -13,35 +14,13 @@
 
 namespace fortu {
 
-enum class OutputFormat {
-    Png,    ///< picture: diverging colour map + zero contour (picture.hpp)
-    Jpeg,   ///< picture, lossy
-    Tiff,   ///< picture
-    Bmp,    ///< picture
-    Exr,    ///< float EXR, channels value, n1..n4 (3D: n1..n5), exr.hpp
-    Npy,    ///< NumPy array of the raw values, npy.hpp
-    Csv,    ///< x,y[,z],value per node, csv.hpp
-    Svg,    ///< the zero contour as polylines, contour.hpp
-};
-
-/// The format for `path` by its extension (case-insensitive), or nullopt if fortu cannot
-/// write it — so that the command line refuses it before doing any work.
-std::optional<OutputFormat> output_format_for(const std::string& path);
-
-/// The extensions output_format_for() accepts, lower case, without the dot, in the order of
-/// OutputFormat (for usage messages).
-std::vector<std::string> supported_output_extensions();
-
-/// The format's usual name: "PNG", "JPEG", "TIFF", "BMP", "OpenEXR", "NumPy", "CSV", "SVG".
-std::string_view output_format_name(OutputFormat format);
-
-/// True for the 8-bit colour picture formats (Png, Jpeg, Tiff, Bmp).
-bool is_picture_format(OutputFormat format);
-
 /// Writes `field` to `path` in the format its extension names. Throws OutputError
 /// (`cannot write 'PATH': REASON`) on any failure, leaving `path` untouched; an unknown
 /// extension is an OutputError too. For a series path (`%d`) each file is atomic on its own.
 void write_field(const Field& field, const std::string& path, const OutputOptions& options = {});
+
+/// The same for a path already resolved (resolve_output()).
+void write_field(const Field& field, const OutputTarget& target, const OutputOptions& options = {});
 
 /// Why `path` cannot take the M-images, or nullopt if it can: it must end in `.exr`, or name
 /// a PNG/TIFF/BMP series with a number conversion (`m_%d.png`; JPEG would corrupt the codes).

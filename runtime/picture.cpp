@@ -143,18 +143,17 @@ void write_image_8bit(const std::string& path, int cols, int rows, int channels,
     });
 }
 
-void write_picture(const Field& field, const std::string& path, const OutputOptions& options) {
+void write_picture(const Field& field, const OutputTarget& target, const OutputOptions& options) {
     const Grid& g = field.grid;
-    if (g.dims == 3 && is_file_series(path)) {
+    if (g.dims == 3 && target.series) {
         const ColourScale scale = colour_scale(field.values);
-        for (int s = 0; s < g.slices(); ++s) write_one_slice(field, s, scale, file_series_name(path, s), options);
+        for (int s = 0; s < g.slices(); ++s) write_one_slice(field, s, scale, target.file(s), options);
         return;
     }
     const int slice = picture_slice(g, options.slice);
     if (slice < 0)
-        throw OutputError(path, fmt::format("slice {} is out of range 0..{}", options.slice, g.slices() - 1));
-    const std::string name = is_file_series(path) ? file_series_name(path, slice) : path;
-    write_one_slice(field, slice, colour_scale(slice_values(field, slice)), name, options);
+        throw OutputError(target.path, fmt::format("slice {} is out of range 0..{}", options.slice, g.slices() - 1));
+    write_one_slice(field, slice, colour_scale(slice_values(field, slice)), target.file(slice), options);
 }
 
 }  // namespace fortu

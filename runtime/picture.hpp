@@ -4,6 +4,7 @@
 #pragma once
 
 #include "runtime/field.hpp"
+#include "runtime/output_formats.hpp"
 #include "runtime/output_options.hpp"
 
 #include <cstdint>
@@ -62,8 +63,8 @@ void write_image_8bit(const std::string& path, int cols, int rows, int channels,
                       std::span<const std::uint8_t> pixels, const OutputOptions& options);
 
 /// The picture of `field`: 2D, one file; 3D, the slice options.slice (middle by default), or
-/// every slice if `path` is a series (`slice_%03d.png`, numbered from 0 = smallest Z, all
+/// every slice if the target is a series (`slice_%03d.png`, numbered from 0 = smallest Z, all
 /// slices on one colour scale). Throws OutputError.
-void write_picture(const Field& field, const std::string& path, const OutputOptions& options);
+void write_picture(const Field& field, const OutputTarget& target, const OutputOptions& options);
 
 }  // namespace fortu

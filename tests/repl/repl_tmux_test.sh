@@ -2,7 +2,9 @@
 # tests/repl/repl_tmux_test.sh FORTU — drives `fortu repl` in a tmux pane (send-keys, then
 # capture-pane) and checks what a user sees: the half-block picture of a disc, a syntax error
 # with its caret, Ctrl-C stopping a long evaluation (not the REPL) and dropping a half-typed
-# line, Ctrl-D quitting, the history file. Exit 0 only if every check passed.
+# line, Ctrl-D quitting, the history file. Exit 0 only if every check passed. Every step waits
+# for what the session shows (or, for a running evaluation, for the CPU time it has used), never
+# for a fixed time, so the test passes on a loaded machine too.
 set -u
 FORTU=${1:?usage: repl_tmux_test.sh PATH/TO/fortu}
 if ! command -v tmux >/dev/null 2>&1; then
@@ -19,9 +21,9 @@ failures=0
 fail() { echo "FAIL: $1"; failures=$((failures + 1)); }
 pass() { echo "ok: $1"; }
 
-# Waits (up to $2 seconds, default 20) until the pane shows text matching the regex $1.
+# Waits (up to $2 seconds, default 60) until the pane shows text matching the regex $1.
 wait_for() {
-    tries=$(( ${2:-20} * 10 ))
+    tries=$(( ${2:-60} * 10 ))
     while [ "$tries" -gt 0 ]; do
         if $T capture-pane -p -S -200 -t repl 2>/dev/null | grep -Eq -- "$1"; then return 0; fi
         sleep 0.1
@@ -32,10 +34,46 @@ wait_for() {
     return 1
 }
 
+# Waits until the session is idle at an empty prompt right after the line "fortu> $1": it has
+# read that line and finished what it asked for.
+wait_for_prompt_after() {
+    tries=600
+    while [ "$tries" -gt 0 ]; do
+        last_two=$($T capture-pane -p -S -200 -t repl 2>/dev/null | grep -v '^$' | tail -2)
+        if [ "$last_two" = "$(printf 'fortu> %s\nfortu>' "$1")" ]; then return 0; fi
+        sleep 0.1
+        tries=$((tries - 1))
+    done
+    echo "--- pane after waiting for the prompt after '$1':"
+    $T capture-pane -p -S -200 -t repl 2>/dev/null | grep -v '^$' | tail -20
+    return 1
+}
+
+# The CPU time (clock ticks, all threads) the fortu process has used so far.
+cpu_ticks() { awk '{ print $14 + $15 }' "/proc/$(cat "$WORK/fortu.pid")/stat" 2>/dev/null || echo 0; }
+
+# Waits until fortu has used $1 more clock ticks of CPU than $2: it is evaluating. Only an
+# evaluation spends CPU time; the prompt waits for input without using any.
+wait_for_cpu() {
+    tries=600
+    while [ "$tries" -gt 0 ]; do
+        [ "$(cpu_ticks)" -ge $(( $2 + $1 )) ] && return 0
+        sleep 0.1
+        tries=$((tries - 1))
+    done
+    echo "--- fortu used only $(( $(cpu_ticks) - $2 )) ticks of CPU"
+    return 1
+}
+
 mkdir -p "$WORK/home"
 cd "$WORK" || exit 1
+# The launcher records fortu's process id (exec keeps it) for wait_for_cpu.
+cat > "$WORK/launch.sh" <<EOF
+echo \$\$ > '$WORK/fortu.pid'
+exec env -u NO_COLOR HOME='$WORK/home' TERM=xterm-256color '$FORTU' repl
+EOF
 $T new-session -d -s repl -x 100 -y 40 \
-    "env -u NO_COLOR HOME='$WORK/home' TERM=xterm-256color '$FORTU' repl; echo \"repl exited with status \$?\"; sleep 60" || { echo "FAIL: tmux could not start"; exit 1; }
+    "sh '$WORK/launch.sh'; echo \"repl exited with status \$?\"; sleep 60" || { echo "FAIL: tmux could not start"; exit 1; }
 wait_for '^fortu>' || fail "no prompt"
 
 # A syntax error: reported with the typed line and a caret; the session goes on.
@@ -64,8 +102,11 @@ fi
 # Ctrl-C stops a long evaluation, not the REPL; no half-written file is left.
 $T send-keys -t repl 'VARIABLE D = 0' Enter 'FOR I = 1, 2000' Enter \
     'D = D | (0.01 - SQRT((X - I/1000)^2 + Y^2))' Enter 'END FOR' Enter 'RETURN D' Enter \
-    ':size 2000' Enter ':render big.npy' Enter
-sleep 1.5
+    ':size 2000' Enter
+wait_for_prompt_after ':size 2000' || fail "the long model was not set up"
+before=$(cpu_ticks)
+$T send-keys -t repl ':render big.npy' Enter
+wait_for_cpu 20 "$before" || fail "the evaluation did not start"
 $T send-keys -t repl C-c
 wait_for 'fortu: error: interrupted' && pass "Ctrl-C interrupted the evaluation" || fail "Ctrl-C did not interrupt"
 [ ! -e big.npy ] && pass "no file written" || fail "an interrupted :render wrote big.npy"
@@ -73,8 +114,10 @@ $T send-keys -t repl ':eval 0.5 0' Enter
 wait_for '^inside: ' && pass "the session goes on after Ctrl-C" || fail "the session did not survive Ctrl-C"
 
 # Ctrl-C at the prompt drops the half-typed line.
-$T send-keys -t repl 'half typed' C-c
-sleep 0.3
+$T send-keys -t repl 'half typed'
+wait_for '^fortu> half typed$' || fail "the half-typed line was not echoed"
+$T send-keys -t repl C-c
+wait_for_prompt_after 'half typed' || fail "no new prompt after Ctrl-C"
 $T send-keys -t repl ':engine' Enter
 wait_for '^engine: voxel$' && pass "Ctrl-C at the prompt drops the line" || fail "Ctrl-C at the prompt"
 

@@ -1,13 +1,13 @@
 // tests/unit/cli_golden_test.cpp — the tests of the tester: `fortu golden` over small suites
 // made in temporary folders (issue 7's acceptance), with its exact report lines.
 #include "cli_support.hpp"
+#include "test_support.hpp"
 
 #include <doctest/doctest.h>
 
 #include <filesystem>
 #include <fstream>
 #include <iterator>
-#include <unistd.h>
 
 using fortu::test::run_fortu;
 
@@ -15,22 +15,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        path = fs::temp_directory_path() /
-               ("fortu_golden_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter()++));
-        fs::create_directories(path);
-    }
-    ~TempDir() { fs::remove_all(path); }
-    static int& counter() { static int c = 0; return c; }
-    void write(const std::string& name, const std::string& text) const {
-        std::ofstream(path / name, std::ios::binary) << text;
-    }
-    std::string read(const std::string& name) const {
-        std::ifstream in(path / name, std::ios::binary);
-        return std::string(std::istreambuf_iterator<char>(in), {});
-    }
+/// A scratch folder holding a suite.
+struct TempDir : fortu::test::ScratchDir {
     bool has(const std::string& name) const { return fs::exists(path / name); }
     /// `fortu golden ARGS` in this folder: status and stdout + stderr.
     fortu::test::CommandResult golden(const std::string& args) const {

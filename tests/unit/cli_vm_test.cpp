@@ -28,21 +28,19 @@ TEST_CASE("check, eval and run accept .vm models") {
 }
 
 TEST_CASE("a malformed .vm model is a located model error") {
-    const auto dir = std::filesystem::temp_directory_path() / "fortu_cli_vm_test";
-    std::filesystem::create_directories(dir);
-    std::ofstream(dir / "bad.vm") << "x var-x\ny frob x\n";
-    CommandResult r = run_fortu("run bad.vm", dir.string());
+    fortu::test::ScratchDir dir;
+    dir.write("bad.vm", "x var-x\ny frob x\n");
+    CommandResult r = run_fortu("run bad.vm", dir.path.string());
     CHECK(r.status == 1);
     CHECK(r.out == "bad.vm:2:3: error: unknown operation 'frob'\ny frob x\n  ^~~~\n"
                    "note: known: var-x var-y var-z const add sub mul div max min neg square sqrt abs exp ln sin cos\n");
 }
 
 TEST_CASE("--sign-only writes the same sign as the full evaluation") {
-    const auto dir = std::filesystem::temp_directory_path() / "fortu_cli_vm_test";
-    std::filesystem::create_directories(dir);
-    REQUIRE(run_fortu("run " + vm("prospero.vm") + " --size 96 --sign-only -o sign.csv", dir.string()).status == 0);
-    REQUIRE(run_fortu("run " + vm("prospero.vm") + " --size 96 -o full.csv", dir.string()).status == 0);
-    std::istringstream sign(read_file(dir / "sign.csv")), full(read_file(dir / "full.csv"));
+    fortu::test::ScratchDir dir;
+    REQUIRE(run_fortu("run " + vm("prospero.vm") + " --size 96 --sign-only -o sign.csv", dir.path.string()).status == 0);
+    REQUIRE(run_fortu("run " + vm("prospero.vm") + " --size 96 -o full.csv", dir.path.string()).status == 0);
+    std::istringstream sign(dir.read("sign.csv")), full(dir.read("full.csv"));
     std::string a, b;
     std::getline(sign, a);
     std::getline(full, b);

@@ -2,6 +2,7 @@
 // renderer: exact text, caret line included.
 #include "grammar/diagnostic.hpp"
 #include "grammar/source.hpp"
+#include "test_support.hpp"
 
 #include <doctest/doctest.h>
 
@@ -59,9 +60,8 @@ TEST_CASE("SourceFile splits lines at newlines and tolerates CRLF") {
 }
 
 TEST_CASE("SourceFile::load reads binary-exact and reports failures") {
-    const std::filesystem::path dir =
-        std::filesystem::temp_directory_path() / "fortu_grammar_diagnostic_test";
-    std::filesystem::create_directories(dir);
+    const fortu::test::ScratchDir scratch;
+    const std::filesystem::path& dir = scratch.path;
     const std::string path = (dir / "bytes.fortu").string();
     const std::string bytes("ARGUMENT X;\r\n// \xcf\xf0\xe8\xec\xe5\xf0\n\0\xff RETURN X;", 33);
     {
@@ -85,7 +85,6 @@ TEST_CASE("SourceFile::load reads binary-exact and reports failures") {
         CHECK(SourceFile::load(dir.string(), error) == nullptr);
         CHECK(error == "cannot read '" + dir.string() + "': is a directory");
     }
-    std::filesystem::remove_all(dir);
 }
 
 TEST_CASE("render: location, source line, caret under the range, note") {

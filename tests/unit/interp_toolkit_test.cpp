@@ -278,29 +278,8 @@ TEST_CASE("FLOZ3_MESH: the 80-triangle sphere is positive inside, zero on the me
     CHECK(std::fabs(at(m, 0, -1 / s, -t / s)) < 1e-12);
 }
 
-TEST_CASE("IMAGE reads a picture's grey levels as a table, row after row from the top") {
-    // examples/vyatkin_bumps.pgm is plain text (P2), so the test reads it on its own
-    std::istringstream pgm(read_file(std::filesystem::path(FORTU_SOURCE_DIR) / "examples" / "vyatkin_bumps.pgm"));
-    std::string magic, line;
-    std::getline(pgm, magic);
-    std::getline(pgm, line);  // the comment
-    int width = 0, height = 0, maximum = 0;
-    pgm >> width >> height >> maximum;
-    std::vector<double> levels;
-    for (int v; pgm >> v;) levels.push_back(static_cast<double>(v) / maximum);
-    REQUIRE(magic == "P2");
-    REQUIRE(levels.size() == 256);
-    const std::string head = "ARGUMENT X, Y; CONSTANT T = IMAGE('vyatkin_bumps.pgm'), W = IMAGE_WIDTH('vyatkin_bumps.pgm'), "
-                             "H = IMAGE_HEIGHT('vyatkin_bumps.pgm'); ";
-    const std::string path = std::string(FORTU_SOURCE_DIR) + "/examples/model.fortu";
-    CHECK(at(compile_with_stdlib(head + "RETURN X + 1000*W + H + 10*SIZE(T);", path), 0, 0) == 16000 + 16 + 2560);
-    for (int k : {1, 17, 60, 100, 137, 200, 256}) {
-        CAPTURE(k);
-        const Model m = compile_with_stdlib(head + "RETURN X + T(" + std::to_string(k) + ");", path);
-        CHECK(at(m, 0, 0) == doctest::Approx(levels[k - 1]).epsilon(1e-6));  // 8-bit levels, via float
-    }
-}
-
+// IMAGE's semantics are tested in memory (interp_include_test.cpp); this one is the disk
+// loader's: a real file OpenImageIO cannot decode.
 TEST_CASE("IMAGE of a file that is no picture is a model error naming the file") {
     CompileOptions options;
     Compiled c = compile_text("ARGUMENT X, Y; CONSTANT T = IMAGE('floz.fortu'); RETURN X + T(1);", options,

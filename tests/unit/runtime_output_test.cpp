@@ -6,6 +6,7 @@
 #include "runtime/npy.hpp"
 #include "runtime/output.hpp"
 #include "runtime/output_error.hpp"
+#include "runtime/output_formats.hpp"
 #include "runtime/output_path.hpp"
 
 #include <doctest/doctest.h>
@@ -61,27 +62,69 @@ Field sample2(int cols, int rows, const std::function<double(double, double)>& f
 }  // namespace
 
 TEST_CASE("output_format_for follows the extension, case-insensitively") {
-    CHECK(output_format_for("out.png") == OutputFormat::Png);
-    CHECK(output_format_for("dir.d/OUT.PNG") == OutputFormat::Png);
-    CHECK(output_format_for("a.JPG") == OutputFormat::Jpeg);
-    CHECK(output_format_for("a.jpeg") == OutputFormat::Jpeg);
-    CHECK(output_format_for("a.tif") == OutputFormat::Tiff);
-    CHECK(output_format_for("a.Tiff") == OutputFormat::Tiff);
-    CHECK(output_format_for("a.bmp") == OutputFormat::Bmp);
-    CHECK(output_format_for("a.exr") == OutputFormat::Exr);
-    CHECK(output_format_for("a.npy") == OutputFormat::Npy);
-    CHECK(output_format_for("a.csv") == OutputFormat::Csv);
-    CHECK(output_format_for("a.svg") == OutputFormat::Svg);
-    CHECK(output_format_for("slice_%03d.png") == OutputFormat::Png);
-    CHECK_FALSE(output_format_for("a.xyz"));
-    CHECK_FALSE(output_format_for("noextension"));
-    CHECK_FALSE(output_format_for("dir.png/file"));
-    CHECK_FALSE(output_format_for(""));
+    auto name = [](const char* path) {
+        const OutputFormat* format = output_format_for(path);
+        return format ? std::string(format->name) : std::string("none");
+    };
+    CHECK(name("out.png") == "PNG");
+    CHECK(name("dir.d/OUT.PNG") == "PNG");
+    CHECK(name("a.JPG") == "JPEG");
+    CHECK(name("a.jpeg") == "JPEG");
+    CHECK(name("a.tif") == "TIFF");
+    CHECK(name("a.Tiff") == "TIFF");
+    CHECK(name("a.bmp") == "BMP");
+    CHECK(name("a.exr") == "OpenEXR");
+    CHECK(name("a.npy") == "NumPy");
+    CHECK(name("a.csv") == "CSV");
+    CHECK(name("a.svg") == "SVG");
+    CHECK(name("slice_%03d.png") == "PNG");
+    CHECK(name("a.xyz") == "none");
+    CHECK(name("noextension") == "none");
+    CHECK(name("dir.png/file") == "none");
+    CHECK(name("") == "none");
     CHECK(supported_output_extensions() ==
           std::vector<std::string>{"png", "jpg", "jpeg", "tif", "tiff", "bmp", "exr", "npy", "csv", "svg"});
-    CHECK(output_format_name(OutputFormat::Exr) == "OpenEXR");
-    CHECK(is_picture_format(OutputFormat::Bmp));
-    CHECK_FALSE(is_picture_format(OutputFormat::Npy));
+    CHECK(output_format_for("a.bmp")->kind == OutputKind::Picture);
+    CHECK(output_format_for("a.exr")->kind == OutputKind::MImages);
+    CHECK(output_format_for("a.npy")->kind == OutputKind::Field);
+    CHECK(output_format_for("a.svg")->kind == OutputKind::Contour);
+    CHECK(output_format_for("a.jpg")->lossy);
+    CHECK_FALSE(output_format_for("a.png")->lossy);
+}
+
+TEST_CASE("the usage text and the golden kinds are generated from the table") {
+    CHECK(output_formats_usage(4) == "picture: .png .jpg .tif .bmp\n"
+                                     "    M-images: .exr (value + n1..n4 channels)\n"
+                                     "    values: .npy .csv (x,y[,z],value lines)\n"
+                                     "    zero contour: .svg");
+    CHECK(output_extensions_text() == ".png .jpg .tif .bmp .exr .npy .csv .svg");
+    CHECK(output_extensions_text(", ") == ".png, .jpg, .tif, .bmp, .exr, .npy, .csv, .svg");
+    CHECK(golden_output_kinds() == std::vector<std::string>{"png", "exr", "npy", "csv", "svg"});
+    CHECK(golden_output_format("npy") == output_format_for("x.npy"));
+    CHECK(golden_output_format("jpg") == nullptr);   // lossy: no golden comparator
+    CHECK(golden_output_format("xyz") == nullptr);
+    for (const OutputFormat& format : output_formats()) {
+        CAPTURE(format.name);
+        CHECK(static_cast<bool>(format.write));
+        CHECK_FALSE(format.extensions.empty());
+        CHECK(output_format_for("a." + std::string(format.extension())) == &format);
+    }
+}
+
+TEST_CASE("resolve_output: the format and whether the path is a series, decided once") {
+    const OutputTarget one = resolve_output("dir/out.PNG");
+    CHECK(one.path == "dir/out.PNG");
+    CHECK(one.format == output_format_for("x.png"));
+    CHECK_FALSE(one.series);
+    CHECK(one.file(3) == "dir/out.PNG");
+    const OutputTarget slices = resolve_output("slice_%03d.svg");
+    CHECK(slices.format->name == "SVG");
+    CHECK(slices.series);
+    CHECK(slices.file(7) == "slice_007.svg");
+    CHECK_THROWS_WITH_AS(resolve_output("out.xyz"),
+                         "cannot write 'out.xyz': unknown output format '.xyz' (known: png, jpg, jpeg, tif, tiff, bmp, "
+                         "exr, npy, csv, svg)",
+                         OutputError);
 }
 
 TEST_CASE("file series: %d, %3d, %03d are number conversions; other % signs are kept") {

@@ -2,6 +2,7 @@
 // labels, the legend, one group per series, log ticks in decades, undrawable points left out,
 // text escaped, and the file written atomically.
 #include "runtime/plot.hpp"
+#include "test_support.hpp"
 
 #include <doctest/doctest.h>
 
@@ -9,7 +10,6 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-#include <unistd.h>
 
 using namespace fortu;
 
@@ -101,14 +101,9 @@ TEST_CASE("render_plot_svg: linear ticks in 1-2-5 steps") {
 }
 
 TEST_CASE("write_plot_svg writes exactly the rendered document") {
-    const auto dir = std::filesystem::temp_directory_path() / ("fortu_plot_test_" + std::to_string(::getpid()));
-    std::filesystem::create_directories(dir);
+    const fortu::test::ScratchDir dir;
     const Plot p = two_series(false);
-    write_plot_svg(p, (dir / "p.svg").string());
-    std::ifstream in(dir / "p.svg", std::ios::binary);
-    std::stringstream text;
-    text << in.rdbuf();
-    CHECK(text.str() == render_plot_svg(p));
-    CHECK_THROWS(write_plot_svg(p, (dir / "missing" / "p.svg").string()));
-    std::filesystem::remove_all(dir);
+    write_plot_svg(p, dir / "p.svg");
+    CHECK(dir.read("p.svg") == render_plot_svg(p));
+    CHECK_THROWS(write_plot_svg(p, dir / "missing/p.svg"));
 }

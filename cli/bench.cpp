@@ -22,7 +22,7 @@
 namespace fortu {
 namespace {
 
-constexpr const char* kBenchUsage = R"(usage:
+constexpr std::string_view kBenchUsage = R"(usage:
   fortu bench MODEL... [options]   time each model x engine x size (bench/README.md)
   fortu bench --paper [--quick] [--out DIR] [--examples DIR] [--repeat N] [--threads N] [--budget OPS]
                                    the papers' experiments E1-E5: results.md, results.json, plots
@@ -34,9 +34,8 @@ constexpr const char* kBenchUsage = R"(usage:
                                    ../shared/data or the copy in tests/shared/data)
 
 options:
-  --engines classic,voxel   what to time (default both): classic, voxel (float64),
-                            voxel-f32 (--precision float32), sign (--sign-only's renderer)
-  --mimages                 each run also computes the M-images (the FV model's components)
+  --engines classic,voxel   what to time (default classic,voxel), of:
+{engines}  --mimages                 each run also computes the M-images (the FV model's components)
                             after the evaluation; not for sign cells
   --sizes 200,400,800       nodes per axis (N means NxN, or NxNxN for a 3D model)
   --repeat N                timed runs per cell (default 3; a cell stops repeating after 20 s)
@@ -48,11 +47,21 @@ options:
   --plot FILE.svg           median time against grid points, one line per model and engine
 )";
 
+/// kBenchUsage with one line per engine of the table.
+std::string bench_usage() {
+    std::string engines;
+    for (const Engine* engine : engine_table())
+        engines += fmt::format("    {:<22}{}\n", engine->name(), engine->summary());
+    std::string text(kBenchUsage);
+    text.replace(text.find("{engines}"), 9, engines);
+    return text;
+}
+
 constexpr int kMaxBenchNodes = 20000;   // per axis; the grid itself is capped by kMaxGridPoints
 
 struct BenchArgs {
     std::vector<std::string> models;
-    std::vector<BenchEngine> engines{BenchEngine::Classic, BenchEngine::Voxel};
+    std::vector<const Engine*> engines{&engine_named("classic"), &engine_named("voxel")};
     std::vector<int> sizes{200, 400, 800};
     MeasureOptions measure;
     std::string json, csv, plot;
@@ -97,10 +106,9 @@ BenchArgs parse_bench_args(const std::vector<std::string>& args) {
             b.engines.clear();
             b.engines_given = true;
             for (const std::string& name : split(value())) {
-                const auto engine = parse_bench_engine(name);
-                if (!engine)
-                    throw UsageError(fmt::format("--engines: unknown engine '{}' ({})", name, bench_engine_names()));
-                b.engines.push_back(*engine);
+                const Engine* engine = find_engine(name);
+                if (!engine) throw UsageError(fmt::format("--engines: unknown engine '{}' ({})", name, engine_names()));
+                b.engines.push_back(engine);
             }
         } else if (a == "--mimages") {
             b.measure.mimages = true;
@@ -175,7 +183,7 @@ Plot bench_plot(const std::vector<BenchCell>& cells) {
     plot.log_x = plot.log_y = true;
     for (const BenchCell& c : cells) {
         if (c.skipped) continue;
-        const std::string name = fmt::format("{} ({})", c.model, bench_engine_name(c.engine));
+        const std::string name = fmt::format("{} ({})", c.model, c.engine->name());
         auto it = std::find_if(plot.series.begin(), plot.series.end(), [&](const PlotSeries& s) { return s.name == name; });
         if (it == plot.series.end()) it = plot.series.insert(plot.series.end(), PlotSeries{name});
         it->points.emplace_back(double(c.points()), c.median);
@@ -195,7 +203,7 @@ int run_models(const BenchArgs& b) {
             if (double(grid.points()) > double(kMaxGridPoints))
                 throw UsageError(fmt::format("--sizes: {} is {} points, more than the {} fortu allocates",
                                              grid_size_text(grid), format_count(grid.points()), format_count(kMaxGridPoints)));
-            for (BenchEngine engine : b.engines) cells.push_back(measure_cell(path, *model, grid, engine, b.measure, rate));
+            for (const Engine* engine : b.engines) cells.push_back(measure_cell(path, *model, grid, *engine, b.measure, rate));
         }
     }
     if (cells.empty()) return status;
@@ -221,7 +229,7 @@ int run_models(const BenchArgs& b) {
 
 int run_bench_command(const std::vector<std::string>& args) {
     if (std::find(args.begin(), args.end(), "--help") != args.end()) {
-        std::cout << kBenchUsage;
+        std::cout << bench_usage();
         return 0;
     }
     const BenchArgs b = parse_bench_args(args);

@@ -31,7 +31,7 @@ struct Work {
     SuiteModel model;
     const char* what;            ///< after the model and the grid: "sign image", ...
     int size, quick_size;        ///< nodes per axis
-    BenchEngine engine;
+    const char* engine;          ///< its name in the engine table
     bool mimages;                ///< evaluation plus the four M-images
     bool show_peak;              ///< peak memory printed beside the time
     double target_seconds;       ///< 0: no target
@@ -43,19 +43,19 @@ struct Work {
 constexpr const char* kNone = "—";
 
 constexpr Work kSuite[] = {
-    {SuiteModel::Prospero, "sign image", 1024, 128, BenchEngine::Sign, false, false, 0.011, 0, "≤ 11 ms",
+    {SuiteModel::Prospero, "sign image", 1024, 128, "sign", false, false, 0.011, 0, "≤ 11 ms",
      "libfive interval 34 ms"},
-    {SuiteModel::Prospero, "full field, float32", 1024, 128, BenchEngine::VoxelFloat32, false, true, 0.170, 64,
+    {SuiteModel::Prospero, "full field, float32", 1024, 128, "voxel-f32", false, true, 0.170, 64,
      "≤ 170 ms, peak ≤ 64 MiB", "libfive brute force 513 ms, numpy float32 1715 ms / 71 MiB, OpenVDB AX 589 ms"},
-    {SuiteModel::Prospero, "full field, float64", 1024, 128, BenchEngine::Voxel, false, true, 0, 0, kNone, kNone},
-    {SuiteModel::Floz64, "full field, float32", 800, 100, BenchEngine::VoxelFloat32, false, false, 0.020, 0,
+    {SuiteModel::Prospero, "full field, float64", 1024, 128, "voxel", false, true, 0, 0, kNone, kNone},
+    {SuiteModel::Floz64, "full field, float32", 800, 100, "voxel-f32", false, false, 0.020, 0,
      "≤ 20 ms", "numpy 287 ms, OpenVDB AX 145 ms, libfive 62 ms"},
-    {SuiteModel::Floz64, "full field, float64", 800, 100, BenchEngine::Voxel, false, false, 0, 0, kNone, kNone},
-    {SuiteModel::Floz64, "sign image", 800, 100, BenchEngine::Sign, false, false, 0, 0, kNone,
+    {SuiteModel::Floz64, "full field, float64", 800, 100, "voxel", false, false, 0, 0, kNone, kNone},
+    {SuiteModel::Floz64, "sign image", 800, 100, "sign", false, false, 0, 0, kNone,
      "libfive interval 382 ms"},
-    {SuiteModel::Fig3a, "field and its four M-images, float32", 800, 100, BenchEngine::VoxelFloat32, true, false,
+    {SuiteModel::Fig3a, "field and its four M-images, float32", 800, 100, "voxel-f32", true, false,
      0.020, 0, "≤ 20 ms", kNone},
-    {SuiteModel::Fig3a, "field and its four M-images, float64", 800, 100, BenchEngine::Voxel, true, false, 0.020, 0,
+    {SuiteModel::Fig3a, "field and its four M-images, float64", 800, 100, "voxel", true, false, 0.020, 0,
      "≤ 20 ms", kNone},
 };
 
@@ -133,7 +133,7 @@ std::string rows_json(const std::vector<RowResult>& rows, bool quick) {
             "      \"mimages\": {},\n      \"target_seconds\": {},\n      \"target_peak_rss_bytes\": {},\n"
             "      \"reference\": {},\n      \"status\": \"{}\",\n      \"met\": {},\n      \"reason\": {},\n"
             "      \"cell\": {}\n    }}{}\n",
-            json_string(r.label), json_string(r.model->path.string()), bench_engine_name(w.engine), r.size, r.size,
+            json_string(r.label), json_string(r.model->path.string()), w.engine, r.size, r.size,
             w.mimages ? "true" : "false", w.target_seconds > 0 ? json_number(w.target_seconds) : "null",
             w.target_peak_mib > 0 ? json_number(w.target_peak_mib * kMiB) : "null", w.reference == kNone ? "null" : json_string(w.reference),
             r.cell ? "measured" : "not run", judged ? (r.met() ? "true" : "false") : "null",
@@ -190,9 +190,9 @@ int run_performance_benchmarks(const PerformanceOptions& options) {
             MeasureOptions measure = options.measure;
             measure.mimages = w.mimages;
             const Grid grid = bench_grid(*m.model, size);
-            std::cerr << fmt::format("bench: {} {} {}{} ...\n", m.path.filename().string(), bench_engine_name(w.engine),
+            std::cerr << fmt::format("bench: {} {} {}{} ...\n", m.path.filename().string(), w.engine,
                                      grid_size_text(grid), w.mimages ? " + M-images" : "");
-            r.cell = measure_cell(m.path.string(), *m.model, grid, w.engine, measure, unused_rate);
+            r.cell = measure_cell(m.path.string(), *m.model, grid, engine_named(w.engine), measure, unused_rate);
         }
         rows.push_back(std::move(r));
     }

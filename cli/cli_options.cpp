@@ -62,10 +62,18 @@ std::array<std::optional<AxisRange>, 3> parse_domain(const std::string& text) {
     return domain;
 }
 
+/// The --engine lines of the help text, one per engine of the table.
+std::string engine_help() {
+    std::string text = fmt::format("  --engine NAME               the engine (default {}):\n", default_engine().name());
+    for (const Engine* engine : engine_table())
+        text += fmt::format("    {:<24}{}\n", engine->name(), engine->summary());
+    return text;
+}
+
 }  // namespace
 
 std::string usage_text() {
-    return R"(fortu — evaluate FORTU R-function models (RANOK scripts) on 2D/3D grids
+    std::string text = R"(fortu — evaluate FORTU R-function models (RANOK scripts) on 2D/3D grids
 
 usage:
   fortu run   MODEL.fortu [options]      evaluate on a grid, write images and data
@@ -85,9 +93,7 @@ options:
                               else 256x256 (2D) or 64x64x64 (3D)
   --domain x0:x1,y0:y1[,z0:z1]  the box (wins over the script's ranges); default: the
                               script's ARGUMENT ranges or RECTANGLE, else [-1, 1]
-  --engine voxel|classic      voxel: functional-voxel composition, every node once per
-                              point (default); classic: recursive, nothing saved
-  --rsystem r0|alpha=A|minmax the R-system of & and | (wins over RSYSTEM in the script)
+{engines}  --rsystem r0|alpha=A|minmax the R-system of & and | (wins over RSYSTEM in the script)
   -o FILE                     .png .jpg .tif .bmp (picture), .exr (value + n1..n4 channels),
                               .npy, .csv; 3D pictures: a slice, or one file per slice
                               when FILE contains %d
@@ -98,9 +104,9 @@ options:
                               about twice as fast, values within 1e-5 relative to the field)
   --no-hoist                  the voxel engine computes X-only and Y-only sub-expressions
                               at every point instead of once per column/row (to compare)
-  --sign-only                 compute only the sign (1 inside, 0 boundary, -1 outside, NaN
-                              invalid) with the interval-pruned quadtree/octree renderer:
-                              for sign pictures and contours, much faster on large models
+  --sign-only                 --engine sign: compute only the sign (1 inside, 0 boundary,
+                              -1 outside, NaN invalid): for sign pictures and contours,
+                              much faster on large models
   --stats                     nodes, sharing, classic cost, time per stage, points/s,
                               invalid points, peak memory
   --threads N                 worker threads (default: all cores)
@@ -110,12 +116,15 @@ options:
 
 exit status: 0 success, 1 model error (diagnostics printed), 2 usage error
 )";
+    text.replace(text.find("{engines}"), 9, engine_help());
+    return text;
 }
 
 CliOptions parse_command_line(const std::vector<std::string>& args) {
     CliOptions o;
     if (args.empty()) throw UsageError("no command given (try 'fortu --help')");
     o.command = args[0];
+    bool sign_only = false, engine_given = false;
     if (o.command == "--help" || o.command == "-h") o.command = "help";
     if (o.command == "--version") o.command = "version";
     static const char* kCommands[] = {"run", "eval", "check", "ir", "singular", "help", "version"};
@@ -134,9 +143,9 @@ CliOptions parse_command_line(const std::vector<std::string>& args) {
         else if (a == "--domain") o.domain = parse_domain(value("--domain"));
         else if (a == "--engine") {
             const std::string& e = value("--engine");
-            auto kind = parse_engine(e);
-            if (!kind) throw UsageError(fmt::format("--engine: unknown engine '{}' (use voxel or classic)", e));
-            o.engine = *kind;
+            o.engine = find_engine(e);
+            if (!o.engine) throw UsageError(fmt::format("--engine: unknown engine '{}' (use {})", e, engine_names(", ", " or ")));
+            engine_given = true;
         } else if (a == "--rsystem") {
             const std::string& r = value("--rsystem");
             o.rsystem = parse_rsystem(r);
@@ -162,12 +171,12 @@ CliOptions parse_command_line(const std::vector<std::string>& args) {
         } else if (a == "--stats") o.stats = true;
         else if (a == "--force") o.force = true;
         else if (a == "--float32") o.float32 = true;
-        else if (a == "--sign-only") o.sign_only = true;
-        else if (a == "--no-hoist") o.hoist = false;
+        else if (a == "--sign-only") sign_only = true;
+        else if (a == "--no-hoist") o.engine_settings.hoist = false;
         else if (a == "--precision") {
             const std::string& p = value("--precision");
-            if (p == "float64") o.precision = Precision::Float64;
-            else if (p == "float32") o.precision = Precision::Float32;
+            if (p == "float64") o.engine_settings.precision = Precision::Float64;
+            else if (p == "float32") o.engine_settings.precision = Precision::Float32;
             else throw UsageError(fmt::format("--precision: '{}' is not float64 or float32", p));
         }
         else if (a == "--budget") {
@@ -190,10 +199,14 @@ CliOptions parse_command_line(const std::vector<std::string>& args) {
     if (!o.contour.empty() && output_format_for(o.contour) != OutputFormat::Svg)
         throw UsageError(fmt::format("--contour: '{}' must be an .svg file", o.contour));
 
-    if (o.sign_only && o.engine == EngineKind::Classic)
-        throw UsageError("--sign-only runs the interval renderer; it does not combine with --engine classic");
-    if (o.sign_only && !o.mimages.empty())
-        throw UsageError("--sign-only computes no values; the M-images need them (drop one of the two)");
+    // --sign-only is --engine sign.
+    if (sign_only && engine_given && !o.engine->capabilities().sign_only)
+        throw UsageError(fmt::format("--sign-only runs the interval renderer; it does not combine with --engine {}",
+                                     o.engine->name()));
+    if (sign_only) o.engine = &engine_named("sign");
+    if (o.engine->capabilities().sign_only && !o.mimages.empty())
+        throw UsageError(fmt::format("{} computes no values; the M-images need them (drop one of the two)",
+                                     sign_only ? "--sign-only" : fmt::format("--engine {}", o.engine->name())));
 
     const bool needs_model = o.command != "help" && o.command != "version";
     if (needs_model && o.positional.empty()) throw UsageError(fmt::format("'fortu {}' needs a MODEL file", o.command));

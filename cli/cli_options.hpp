@@ -23,7 +23,8 @@ struct CliOptions {
     std::vector<std::string> positional;       ///< MODEL, then coordinates for eval
     std::vector<int> size;                     ///< --size: 1 to 3 node counts
     std::array<std::optional<AxisRange>, 3> domain;  ///< --domain
-    EngineKind engine = EngineKind::Voxel;
+    const Engine* engine = &default_engine();  ///< --engine (--sign-only: the sign engine)
+    EngineSettings engine_settings;            ///< --precision, --no-hoist
     std::optional<RSystem> rsystem;
     std::string output;                        ///< -o
     std::string mimages;                       ///< --mimages
@@ -34,9 +35,6 @@ struct CliOptions {
     double budget = 1e10;                      ///< classic operations per run before refusing (~1 min here)
     int threads = 0;
     bool float32 = false;                      ///< --float32 for .npy output
-    Precision precision = Precision::Float64;  ///< --precision (voxel engine)
-    bool hoist = true;                          ///< off with --no-hoist (voxel engine)
-    bool sign_only = false;                    ///< --sign-only: interval-pruned sign render
 };
 
 /// Parses argv (without the program name). Throws UsageError.

@@ -17,8 +17,14 @@
 namespace fortu {
 namespace {
 
-constexpr const char* kGoldenUsage =
-    "usage: fortu golden DIR|FILE... [--engine both|classic|voxel] [--update] [--jobs N]";
+/// "both|classic|voxel": what --engine and golden-engine take (the exact engines of the table).
+std::string engine_choices() {
+    return "both|" + engine_names("|", "|", [](const EngineCapabilities& can) { return can.exact; });
+}
+
+std::string golden_usage() {
+    return fmt::format("usage: fortu golden DIR|FILE... [--engine {}] [--update] [--jobs N]", engine_choices());
+}
 
 constexpr const char* kGoldenHelp = R"(
 A golden test is a .fortu script with expectations in its comments, and/or reference files
@@ -28,7 +34,7 @@ beside it (NAME.expected.png|exr|npy|csv|svg, made and refreshed by --update):
                                              expect-boundary = 0)
   // expect-error LINE:COL: MESSAGE          the script's errors, in order
   // expect-singular (X, Y) ... | none       every singular point `fortu singular` finds
-  // golden-engine both|classic|voxel        default both (--engine overrides)
+  // golden-engine {:<25} default both (--engine overrides)
   // golden-size N | WxH | WxHxD ...         default RECTBMP, else 64x64 (2D), 16x16x16 (3D)
   // golden-tolerance T                      values, npy, csv, svg, exr (default 1e-9)
   // golden-pixel-tolerance L                png, in 8-bit levels (default 0)
@@ -50,7 +56,7 @@ GoldenCommand parse_golden_arguments(const std::vector<std::string>& args) {
     for (std::size_t i = 0; i < args.size(); ++i) {
         const std::string& a = args[i];
         auto value = [&]() -> const std::string& {
-            if (i + 1 >= args.size()) throw UsageError(fmt::format("'fortu golden': {} needs a value\n{}", a, kGoldenUsage));
+            if (i + 1 >= args.size()) throw UsageError(fmt::format("'fortu golden': {} needs a value\n{}", a, golden_usage()));
             return args[++i];
         };
         if (a == "--help" || a == "-h") {
@@ -59,9 +65,9 @@ GoldenCommand parse_golden_arguments(const std::vector<std::string>& args) {
             c.run.update = true;
         } else if (a == "--engine") {
             const std::string& e = value();
-            if (e == "both") c.run.engines = std::vector{EngineKind::Voxel, EngineKind::Classic};
-            else if (auto kind = parse_engine(e)) c.run.engines = std::vector{*kind};
-            else throw UsageError(fmt::format("'fortu golden': --engine '{}' is not both, classic or voxel", e));
+            c.run.engines = parse_golden_engines(e);
+            if (!c.run.engines)
+                throw UsageError(fmt::format("'fortu golden': --engine '{}' is not {}", e, golden_engine_choices(" or ")));
         } else if (a == "--jobs" || a == "-j") {
             const std::string& n = value();
             std::size_t used = 0;
@@ -71,13 +77,13 @@ GoldenCommand parse_golden_arguments(const std::vector<std::string>& args) {
                 throw UsageError(fmt::format("'fortu golden': --jobs '{}' is not a number of threads from 1 to 256", n));
             c.jobs = jobs;
         } else if (a.size() > 1 && a[0] == '-') {
-            throw UsageError(fmt::format("'fortu golden': unknown option '{}'\n{}", a, kGoldenUsage));
+            throw UsageError(fmt::format("'fortu golden': unknown option '{}'\n{}", a, golden_usage()));
         } else {
             c.paths.push_back(a);
         }
     }
     if (c.help) return c;
-    if (c.paths.empty()) throw UsageError(fmt::format("'fortu golden': no tests given\n{}", kGoldenUsage));
+    if (c.paths.empty()) throw UsageError(fmt::format("'fortu golden': no tests given\n{}", golden_usage()));
     // Tests share the cores: one evaluation thread each when several run at once.
     c.run.eval_threads = c.jobs > 1 ? 1 : 0;
     return c;
@@ -108,7 +114,7 @@ std::string report(const std::string& name, const GoldenResult& r) {
 int run_golden_command(const std::vector<std::string>& args) {
     const GoldenCommand command = parse_golden_arguments(args);
     if (command.help) {
-        std::cout << kGoldenUsage << "\n" << kGoldenHelp;
+        std::cout << golden_usage() << "\n" << fmt::format(fmt::runtime(kGoldenHelp), engine_choices());
         return 0;
     }
     std::vector<GoldenTest> tests;

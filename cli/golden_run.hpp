@@ -11,7 +11,7 @@
 namespace fortu {
 
 struct GoldenRunOptions {
-    std::optional<std::vector<EngineKind>> engines;   ///< --engine: replaces every test's own
+    std::optional<std::vector<const Engine*>> engines;   ///< --engine: replaces every test's own
     bool update = false;                              ///< --update
     int eval_threads = 0;                             ///< per grid evaluation (0: all cores)
 };

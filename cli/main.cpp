@@ -9,7 +9,6 @@
 #include "interp/engine.hpp"
 #include "interp/ir_print.hpp"
 #include "interp/lower.hpp"
-#include "interp/sign_render.hpp"
 #include "interp/singular.hpp"
 #include "interp/vm_import.hpp"
 #include "runtime/field_stats.hpp"
@@ -98,7 +97,7 @@ double parse_coordinate(const std::string& text) {
 
 /// Refuses a classic run whose expanded-tree cost exceeds the budget (unless --force).
 bool classic_within_budget(const Model& model, const CliOptions& o, double points) {
-    if (o.engine != EngineKind::Classic || o.force) return true;
+    if (!o.engine->capabilities().expanded_tree_cost || o.force) return true;
     const double per_point = classic_operations_per_point(model.graph, model.root);
     const int depth = dag_depth(model.graph, model.root);
     if (depth > kClassicMaxDepth) {
@@ -128,16 +127,20 @@ int command_eval(const CliOptions& o) {
         throw UsageError(fmt::format("'fortu eval': the model has {} argument(s); give {} coordinate(s)",
                                      dims, std::max(dims, 2)));
     for (int i = 0; i < given; ++i) p[i] = parse_coordinate(o.positional[1 + i]);
+    if (!o.engine->capabilities().point)
+        throw UsageError(fmt::format("'fortu eval': the {} engine evaluates whole grids only (use {})", o.engine->name(),
+                                     engine_names(", ", " or ", [](const EngineCapabilities& c) { return c.point; })));
     if (!classic_within_budget(*model, o, 1.0 + model->dims())) return kExitUsage;
 
-    const PointValue v = evaluate_point(*model, p, o.engine);
+    const std::unique_ptr<Engine> engine = o.engine->tuned(o.engine_settings);
+    const PointValue v = evaluate_point(*model, p, *engine);
     // The M-image normal: the plane through the point and its forward neighbours one grid
     // step away (the grid run would use), fv-method.md §1.
     const Grid grid = make_grid(*model, o);
     const double h[3] = {grid.x.step() > 0 ? grid.x.step() : 1.0, grid.y.step() > 0 ? grid.y.step() : 1.0,
                          grid.z.step() > 0 ? grid.z.step() : 1.0};
     auto value_at = [&](double dx, double dy, double dz) {
-        return evaluate_point(*model, {p[0] + dx, p[1] + dy, p[2] + dz}, o.engine).value;
+        return evaluate_point(*model, {p[0] + dx, p[1] + dy, p[2] + dz}, *engine).value;
     };
     std::cout << fmt::format("value: {}\n", v.value);
     if (model->dims() == 3) {
@@ -176,7 +179,7 @@ int command_singular(const CliOptions& o) {
     if (!o.output.empty()) {
         OutputOptions out;
         if (o.slice) out.slice = *o.slice;
-        const Field field = evaluate_grid(*model, grid, EngineKind::Voxel);
+        const Field field = evaluate_grid(*model, grid, default_engine());
         const int slice = grid.dims == 3 ? (o.slice ? *o.slice : grid.slices() / 2) : 0;
         for (const SingularPoint& s : points)
             if (grid.dims == 2 || std::fabs(s.point[2] - grid.z_at(slice)) <= grid.z.step() / 2)
@@ -198,15 +201,14 @@ int command_run(const CliOptions& o) {
     const Grid grid = make_grid(*model, o);
     if (!classic_within_budget(*model, o, double(grid.points()))) return kExitUsage;
 
-    Progress progress(fmt::format("{} {}", engine_name(o.engine), grid_text(grid)), grid.points());
+    const std::unique_ptr<Engine> engine = o.engine->tuned(o.engine_settings);
+    const EngineCapabilities can = engine->capabilities();
+    Progress progress(fmt::format("{} {}", engine->name(), grid_text(grid)), grid.points());
     EvalOptions eval;
     eval.threads = o.threads;
-    eval.precision = o.precision;
-    eval.hoist = o.hoist;
     eval.progress = [&](std::size_t n) { progress.advance(n); };
     Stopwatch clock;
-    Field field = o.sign_only ? sign_render(model->graph, model->root, grid, eval)
-                              : evaluate_grid(*model, grid, o.engine, eval);
+    Field field = evaluate_grid(*model, grid, *engine, eval);
     const double eval_seconds = clock.seconds();
     const std::size_t eval_peak = peak_rss_bytes();  // before any image writer loads OpenImageIO
     progress.finish();
@@ -234,7 +236,7 @@ int command_run(const CliOptions& o) {
     if (!o.stats && o.output.empty() && o.mimages.empty() && o.contour.empty()) {
         std::cout << fmt::format("{} {} with {} in {}: inside {}, boundary {}, outside {}, invalid {}; "
                                  "values in [{}, {}] (write them with -o FILE)\n",
-                                 o.positional[0], grid_text(grid), engine_name(o.engine),
+                                 o.positional[0], grid_text(grid), engine->name(),
                                  format_duration(eval_seconds), stats.positive, stats.zero, stats.negative,
                                  stats.invalid, stats.min, stats.max);
     }
@@ -253,8 +255,8 @@ int command_run(const CliOptions& o) {
             grid.y.min, grid.y.max, grid.dims == 3 ? fmt::format(", z [{}, {}]", grid.z.min, grid.z.max) : "",
             s.nodes, s.operations, s.shared, s.reuses, format_operations(s.classic_operations),
             format_operations(double(s.operations)),
-            o.engine == EngineKind::Voxel && !o.sign_only && o.hoist ? hoisted_text(s) : "", o.sign_only ? "interval sign renderer" : engine_name(o.engine),
-            o.engine == EngineKind::Voxel && !o.sign_only && o.precision == Precision::Float32 ? " (float32)" : "", o.threads > 0 ? o.threads : int(std::max(1u, std::thread::hardware_concurrency())),
+            can.known_and_kept && o.engine_settings.hoist ? hoisted_text(s) : "", engine->name(),
+            can.sign_only ? " (interval sign renderer)" : can.float32 ? " (float32)" : "", o.threads > 0 ? o.threads : int(std::max(1u, std::thread::hardware_concurrency())),
             compile_seconds, eval_seconds, write_seconds,
             format_operations(eval_seconds > 0 ? double(grid.points()) / eval_seconds : 0.0),
             stats.min, stats.max, stats.positive, stats.zero, stats.negative, stats.invalid,

@@ -11,6 +11,7 @@
 #include <exception>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <thread>
 #include <vector>
 
@@ -409,6 +410,12 @@ Field sign_render(const Graph& graph, NodeId root, const Grid& grid, const EvalO
         *stats = total;
     }
     return field;
+}
+
+Field SignEngine::evaluate_grid(const Graph& graph, NodeId root, const Grid& grid, const EvalOptions& options,
+                               const NodeValues& reuse) const {
+    if (!reuse.empty()) throw std::invalid_argument("the sign renderer takes no known or kept node values");
+    return sign_render(graph, root, grid, options);
 }
 
 }  // namespace fortu

@@ -69,4 +69,10 @@ TEST_CASE("--precision and --sign-only usage errors") {
     CHECK(mimages.status == 2);
     CHECK(mimages.out == "fortu: error: --sign-only computes no values; the M-images need them (drop one of the two)\n");
     CHECK(run_fortu("run " + vm("hi.vm") + " --precision float32 --size 32").status == 0);
+    // --sign-only is --engine sign: the same refusals under the engine's own name.
+    CHECK(run_fortu("run " + vm("hi.vm") + " --engine sign --mimages m.exr").out ==
+          "fortu: error: --engine sign computes no values; the M-images need them (drop one of the two)\n");
+    CommandResult point = run_fortu("eval " + vm("hi.vm") + " 0 0 --engine sign");
+    CHECK(point.status == 2);
+    CHECK(point.out == "fortu: error: 'fortu eval': the sign engine evaluates whole grids only (use classic, voxel or voxel-f32)\n");
 }

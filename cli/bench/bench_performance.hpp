@@ -3,7 +3,7 @@
 // in one command, each row beside its target and the reference figures.
 #pragma once
 
-#include "cli/bench_measure.hpp"
+#include "cli/bench/bench_measure.hpp"
 
 #include <string>
 

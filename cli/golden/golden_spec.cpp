@@ -1,6 +1,6 @@
 // cli/golden_spec.cpp — see golden_spec.hpp. Directives are parsed strictly: a typo in one
 // (`expect-valeu`) fails the test rather than silently testing less.
-#include "cli/golden_spec.hpp"
+#include "cli/golden/golden_spec.hpp"
 
 #include "cli/cli_options.hpp"
 

@@ -3,8 +3,8 @@
 // a stable order and a summary ending `N passed, M failed`, the line CI reads.
 #include "cli/cli_options.hpp"
 #include "cli/commands.hpp"
-#include "cli/golden_run.hpp"
-#include "cli/golden_spec.hpp"
+#include "cli/golden/golden_run.hpp"
+#include "cli/golden/golden_spec.hpp"
 
 #include <fmt/format.h>
 

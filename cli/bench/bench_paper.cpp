@@ -3,9 +3,9 @@
 // and, for the growth experiments, a plot with least-squares fits: E3 fits ln t = a + n·ln g
 // for classic (the expanded tree doubles with each R0 conjunction, g ≈ 2) and t = a + b·n for
 // voxel (one FLOZ and one conjunction more per step); E4 fits t = a + b·points for both.
-#include "cli/bench_paper.hpp"
+#include "cli/bench/bench_paper.hpp"
 
-#include "cli/bench_report.hpp"
+#include "cli/bench/bench_report.hpp"
 #include "interp/classic_cost.hpp"
 #include "interp/ir_print.hpp"
 #include "runtime/atomic_file.hpp"

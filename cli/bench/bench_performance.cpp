@@ -3,9 +3,9 @@
 // field in float32 or float64, a field with its M-images), so one command measures exactly
 // those and prints them beside each other. Every cell is an ordinary bench cell
 // (measure_cell), so the numbers mean what `fortu bench MODEL --engines ...` means.
-#include "cli/bench_performance.hpp"
+#include "cli/bench/bench_performance.hpp"
 
-#include "cli/bench_report.hpp"
+#include "cli/bench/bench_report.hpp"
 #include "runtime/atomic_file.hpp"
 #include "runtime/output_error.hpp"
 #include "runtime/resources.hpp"

@@ -1,7 +1,7 @@
 // cli/repl_commands.cpp — the `:commands` of `fortu repl` and the evaluation of typed FORTU.
 // Outputs follow `fortu eval` / `fortu run -o` exactly (same evaluate_point, fv_plane and
 // write_field), so what the REPL shows is what the command line gives.
-#include "cli/repl_commands.hpp"
+#include "cli/repl/repl_commands.hpp"
 
 #include "interp/classic_cost.hpp"
 #include "interp/ir_print.hpp"

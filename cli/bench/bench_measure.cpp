@@ -2,7 +2,7 @@
 // mark (VmHWM) is reset through /proc/self/clear_refs before the cell and read after it, so
 // each cell reports its own peak, not the process's; where that is refused, the process's
 // ru_maxrss growth over the cell is reported instead (memory_method() says which).
-#include "cli/bench_measure.hpp"
+#include "cli/bench/bench_measure.hpp"
 
 #include "grammar/diagnostic.hpp"
 #include "interp/classic_cost.hpp"

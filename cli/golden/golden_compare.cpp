@@ -1,6 +1,6 @@
 // cli/golden_compare.cpp — see golden_compare.hpp. The .npy reader accepts exactly what
 // runtime/npy.cpp writes (v1.0, little-endian f8/f4, C order), which is what --update stores.
-#include "cli/golden_compare.hpp"
+#include "cli/golden/golden_compare.hpp"
 
 #include "runtime/resources.hpp"
 

@@ -2,10 +2,10 @@
 // × size measured, printed as a table with classic/voxel ratios, optionally written as JSON,
 // CSV and an SVG plot). `--paper` hands over to bench_paper.cpp, `--performance` to
 // bench_performance.cpp.
-#include "cli/bench_measure.hpp"
-#include "cli/bench_paper.hpp"
-#include "cli/bench_performance.hpp"
-#include "cli/bench_report.hpp"
+#include "cli/bench/bench_measure.hpp"
+#include "cli/bench/bench_paper.hpp"
+#include "cli/bench/bench_performance.hpp"
+#include "cli/bench/bench_report.hpp"
 #include "cli/cli_options.hpp"
 #include "cli/commands.hpp"
 

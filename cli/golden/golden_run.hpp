@@ -2,7 +2,7 @@
 // expectations and reference files on each engine, and with --update rewrite what failed.
 #pragma once
 
-#include "cli/golden_spec.hpp"
+#include "cli/golden/golden_spec.hpp"
 
 #include <optional>
 #include <string>

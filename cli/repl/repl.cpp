@@ -3,8 +3,8 @@
 // On a terminal: prompts, line editing, colour. Otherwise: plain lines in, plain text out.
 #include "cli/commands.hpp"
 #include "interp/lower.hpp"
-#include "cli/repl_commands.hpp"
-#include "cli/repl_input.hpp"
+#include "cli/repl/repl_commands.hpp"
+#include "cli/repl/repl_input.hpp"
 
 #include <atomic>
 #include <csignal>

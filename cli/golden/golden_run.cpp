@@ -2,9 +2,9 @@
 // reference file is compared with that engine's output, so "both" also checks that the two
 // engines agree. New outputs are written to a private temporary folder and only copied beside
 // the test (NAME.actual.EXT, NAME.diff.EXT) when they differ.
-#include "cli/golden_run.hpp"
+#include "cli/golden/golden_run.hpp"
 
-#include "cli/golden_compare.hpp"
+#include "cli/golden/golden_compare.hpp"
 #include "grammar/diagnostic.hpp"
 #include "interp/classic_cost.hpp"
 #include "interp/ir_print.hpp"

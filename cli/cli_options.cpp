@@ -199,8 +199,8 @@ CliOptions parse_command_line(const std::vector<std::string>& args) {
     if (!o.contour.empty() && output_format_for(o.contour) != OutputFormat::Svg)
         throw UsageError(fmt::format("--contour: '{}' must be an .svg file", o.contour));
 
-    // --sign-only is --engine sign.
-    if (sign_only && engine_given && !o.engine->capabilities().sign_only)
+    // --sign-only is --engine sign; naming the default engine beside it is harmless, as before.
+    if (sign_only && engine_given && o.engine != &default_engine() && !o.engine->capabilities().sign_only)
         throw UsageError(fmt::format("--sign-only runs the interval renderer; it does not combine with --engine {}",
                                      o.engine->name()));
     if (sign_only) o.engine = &engine_named("sign");

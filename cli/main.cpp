@@ -3,6 +3,7 @@
 // runtime/ writers. Exit status: 0 success, 1 model error, 2 usage error.
 #include "cli/cli_options.hpp"
 #include "cli/commands.hpp"
+#include "cli/data_paths.hpp"
 
 #include "grammar/diagnostic.hpp"
 #include "interp/classic_cost.hpp"
@@ -43,7 +44,7 @@ std::optional<Model> load_model(const CliOptions& o, bool show_notes, double& se
     DiagnosticSink sink;
     CompileOptions options;
     options.rsystem = o.rsystem;
-    options.include_dirs = installed_stdlib_dirs();
+    options.include_dirs = stdlib_dirs();
     std::optional<Model> model = is_vm_path(o.positional[0]) ? import_vm(source, sink) : compile(source, options, sink);
     for (const Diagnostic& d : sink.diagnostics())
         if (d.severity != Severity::Note || show_notes) std::cerr << render(d);
@@ -280,8 +281,8 @@ int main(int argc, char** argv) {
             if (args[0] == "repl") return run_repl_command(rest);
         }
         CliOptions o = parse_command_line(args);
-        if (o.command == "help") { std::cout << usage_text(); return 0; }
-        if (o.command == "version") { std::cout << "fortu 0.1.0\n"; return 0; }
+        if (o.command == "help") { std::cout << (o.help.empty() ? usage_text() : o.help); return 0; }
+        if (o.command == "version") { std::cout << version_text(); return 0; }
         if (o.command == "check") return command_check(o);
         if (o.command == "ir") return command_ir(o);
         if (o.command == "eval") return command_eval(o);

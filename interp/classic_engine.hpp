@@ -18,7 +18,7 @@ namespace fortu {
 class ClassicEngine final : public Engine {
 public:
     std::string_view name() const override { return "classic"; }
-    std::string_view summary() const override { return "recursive, point by point, nothing saved (the papers' baseline)"; }
+    std::string_view summary() const override { return "recursive per point, nothing saved (the papers' baseline)"; }
     EngineCapabilities capabilities() const override {
         return {.point = true, .gradients = true, .exact = true, .expanded_tree_cost = true};
     }

@@ -41,7 +41,7 @@ class SignEngine final : public Engine {
 public:
     std::string_view name() const override { return "sign"; }
     std::string_view summary() const override {
-        return "only the sign (1, 0, -1, NaN): the interval-pruned quadtree/octree renderer";
+        return "only the sign (1, 0, -1, NaN): interval-pruned quadtree/octree";
     }
     EngineCapabilities capabilities() const override { return {.sign_only = true}; }
     std::unique_ptr<Engine> tuned(const EngineSettings&) const override { return std::make_unique<SignEngine>(); }

@@ -272,8 +272,8 @@ std::string_view VoxelEngine::name() const {
 
 std::string_view VoxelEngine::summary() const {
     return options_.precision == Precision::Float32
-               ? "the voxel engine in float32: about twice as fast, within 1e-5 of the field"
-               : "functional-voxel composition, every node once per point";
+               ? "voxel in float32: about 2x faster, within 1e-5 of the field"
+               : "functional-voxel composition, each node once per point";
 }
 
 EngineCapabilities VoxelEngine::capabilities() const {

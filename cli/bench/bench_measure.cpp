@@ -4,6 +4,8 @@
 // ru_maxrss growth over the cell is reported instead (memory_method() says which).
 #include "cli/bench/bench_measure.hpp"
 
+#include "cli/data_paths.hpp"
+
 #include "grammar/diagnostic.hpp"
 #include "interp/classic_cost.hpp"
 #include "interp/ir_print.hpp"
@@ -31,7 +33,7 @@ constexpr double kCalibrationOperations = 2e7;
 std::optional<Model> compile_source(std::shared_ptr<SourceFile> source) {
     DiagnosticSink sink;
     CompileOptions options;
-    options.include_dirs = bench_stdlib_dirs();
+    options.include_dirs = stdlib_dirs();
     std::optional<Model> model =
         is_vm_path(source->path()) ? import_vm(source, sink) : compile(source, options, sink);
     for (const Diagnostic& d : sink.diagnostics())
@@ -68,31 +70,9 @@ bool& clear_refs_works() {
 
 }  // namespace
 
-std::optional<std::filesystem::path> find_near_binary(const std::filesystem::path& relative) {
-    std::error_code ec;
-    const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-    if (ec) return std::nullopt;
-    for (auto dir = exe.parent_path(); !dir.empty(); dir = dir.parent_path()) {
-        if (std::filesystem::is_directory(dir / relative, ec)) return (dir / relative).lexically_normal();
-        if (dir == dir.root_path()) break;
-    }
-    return std::nullopt;
-}
-
 std::filesystem::path examples_folder(const std::string& given) {
     if (!given.empty()) return given;
-    return find_near_binary("examples").value_or("examples");
-}
-
-std::vector<std::string> bench_stdlib_dirs() {
-    std::vector<std::string> dirs;
-    std::error_code ec;
-    auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-    if (!ec) {
-        dirs.push_back((exe.parent_path() / "stdlib").string());
-        dirs.push_back((exe.parent_path().parent_path().parent_path() / "stdlib").string());
-    }
-    return dirs;
+    return examples_dir();
 }
 
 std::optional<Model> load_bench_model(const std::string& path) {

@@ -18,15 +18,6 @@
 
 namespace fortu {
 
-/// Folders INCLUDE searches after the script's own: `stdlib/` next to the binary, then the
-/// source tree's.
-std::vector<std::string> bench_stdlib_dirs();
-
-/// The first `relative` (e.g. "examples", "bench/models", "../shared/data") that is a folder
-/// beside the binary or beside one of its parent folders — the source tree's, for a binary in
-/// build/release/. nullopt when there is none.
-std::optional<std::filesystem::path> find_near_binary(const std::filesystem::path& relative);
-
 /// The example models: `given` if not empty, else examples/ found near the binary, else ./examples.
 std::filesystem::path examples_folder(const std::string& given);
 

@@ -5,6 +5,8 @@
 // (measure_cell), so the numbers mean what `fortu bench MODEL --engines ...` means.
 #include "cli/bench/bench_performance.hpp"
 
+#include "cli/data_paths.hpp"
+
 #include "cli/bench/bench_report.hpp"
 #include "runtime/atomic_file.hpp"
 #include "runtime/output_error.hpp"
@@ -154,10 +156,7 @@ std::string load_average() {
 
 std::string shared_data_folder(const std::string& given) {
     if (!given.empty()) return given;
-    if (const char* shared = std::getenv("FORTU_SHARED_DIR"); shared && *shared)
-        return (fs::path(shared) / "data").string();
-    if (auto beside = find_near_binary("../shared/data")) return beside->string();
-    return find_near_binary("tests/shared/data").value_or("../shared/data").string();
+    return shared_data_dir().string();
 }
 
 int run_performance_benchmarks(const PerformanceOptions& options) {
@@ -171,11 +170,11 @@ int run_performance_benchmarks(const PerformanceOptions& options) {
     const std::string load = load_average();
     Stopwatch clock;
     const std::string data = shared_data_folder(options.data_dir);
-    const fs::path floz64 = find_near_binary("bench/models").value_or("bench/models") / "floz64.vm";
+    const fs::path floz64 = bench_models_dir() / "floz64.vm";
     const LoadedModel models[] = {
         load_suite_model("prospero.vm", fs::path(data) / "prospero.vm",
                          "give --data DIR, the folder with prospero.vm, or set FORTU_SHARED_DIR"),
-        load_suite_model("64-segment FLOZ (floz64.vm)", floz64, "bench/models/ of the source tree"),
+        load_suite_model("64-segment FLOZ (floz64.vm)", floz64, "set FORTU_BENCH_MODELS to the source tree's bench/models"),
         load_suite_model("S1 Fig. 3a FLOZ contour", examples_folder(options.examples_dir) / "s1_fig3a_floz.fortu",
                          "give --examples DIR"),
     };

@@ -1,7 +1,7 @@
 // cli/golden.cpp — `fortu golden DIR|FILE... [--engine both|classic|voxel] [--update]
 // [--jobs N]`: collects the tests, runs them (on N threads), and reports one block per test in
 // a stable order and a summary ending `N passed, M failed`, the line CI reads.
-#include "cli/cli_options.hpp"
+#include "cli/option_table.hpp"
 #include "cli/commands.hpp"
 #include "cli/golden/golden_run.hpp"
 #include "cli/golden/golden_spec.hpp"
@@ -49,38 +49,33 @@ struct GoldenCommand {
     GoldenRunOptions run;
     int jobs = 1;
     bool help = false;
+    std::string help_text;   ///< with help: the text --help prints
 };
 
 GoldenCommand parse_golden_arguments(const std::vector<std::string>& args) {
     GoldenCommand c;
-    for (std::size_t i = 0; i < args.size(); ++i) {
-        const std::string& a = args[i];
-        auto value = [&]() -> const std::string& {
-            if (i + 1 >= args.size()) throw UsageError(fmt::format("'fortu golden': {} needs a value\n{}", a, golden_usage()));
-            return args[++i];
-        };
-        if (a == "--help" || a == "-h") {
-            c.help = true;
-        } else if (a == "--update") {
-            c.run.update = true;
-        } else if (a == "--engine") {
-            const std::string& e = value();
-            c.run.engines = parse_golden_engines(e);
-            if (!c.run.engines)
-                throw UsageError(fmt::format("'fortu golden': --engine '{}' is not {}", e, golden_engine_choices(" or ")));
-        } else if (a == "--jobs" || a == "-j") {
-            const std::string& n = value();
-            std::size_t used = 0;
-            int jobs = 0;
-            try { jobs = std::stoi(n, &used); } catch (...) { used = 0; }
-            if (used != n.size() || jobs < 1 || jobs > 256)
-                throw UsageError(fmt::format("'fortu golden': --jobs '{}' is not a number of threads from 1 to 256", n));
-            c.jobs = jobs;
-        } else if (a.size() > 1 && a[0] == '-') {
-            throw UsageError(fmt::format("'fortu golden': unknown option '{}'\n{}", a, golden_usage()));
-        } else {
-            c.paths.push_back(a);
-        }
+    OptionTable t("golden", golden_usage() + "\n" + fmt::format(fmt::runtime(kGoldenHelp), engine_choices()));
+    t.flag("--update", "rewrite, atomically, the references and expectation lines that failed",
+           [&c] { c.run.update = true; });
+    t.option("--engine", engine_choices(), "the engines every test runs (replaces golden-engine)",
+             [&c](const std::string& e) {
+                 c.run.engines = parse_golden_engines(e);
+                 if (!c.run.engines)
+                     throw UsageError(fmt::format("'fortu golden': --engine '{}' is not {}", e, golden_engine_choices(" or ")));
+             });
+    t.option("-j,--jobs", "N", "tests run at a time (default 1); the output order never changes",
+             [&c](const std::string& n) {
+                 std::size_t used = 0;
+                 int jobs = 0;
+                 try { jobs = std::stoi(n, &used); } catch (...) { used = 0; }
+                 if (used != n.size() || jobs < 1 || jobs > 256)
+                     throw UsageError(fmt::format("'fortu golden': --jobs '{}' is not a number of threads from 1 to 256", n));
+                 c.jobs = jobs;
+             });
+    t.positionals(c.paths);
+    if (!t.parse(args)) {
+        c.help = true;
+        c.help_text = t.help();
     }
     if (c.help) return c;
     if (c.paths.empty()) throw UsageError(fmt::format("'fortu golden': no tests given\n{}", golden_usage()));
@@ -114,7 +109,7 @@ std::string report(const std::string& name, const GoldenResult& r) {
 int run_golden_command(const std::vector<std::string>& args) {
     const GoldenCommand command = parse_golden_arguments(args);
     if (command.help) {
-        std::cout << golden_usage() << "\n" << fmt::format(fmt::runtime(kGoldenHelp), engine_choices());
+        std::cout << command.help_text;
         return 0;
     }
     std::vector<GoldenTest> tests;

@@ -2,7 +2,7 @@
 // (`expect-valeu`) fails the test rather than silently testing less.
 #include "cli/golden/golden_spec.hpp"
 
-#include "cli/cli_options.hpp"
+#include "cli/option_table.hpp"
 
 #include <fmt/format.h>
 

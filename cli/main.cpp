@@ -1,4 +1,5 @@
-// cli/main.cpp — the `fortu` binary: run, eval, check, ir. Each command loads and
+// cli/main.cpp — the `fortu` binary: run, eval, check, ir, singular here, golden, bench and
+// repl handed to their libraries (commands.hpp). Each command here loads and
 // compiles the model through interp/, then evaluates and writes through the engines and
 // runtime/ writers. Exit status: 0 success, 1 model error, 2 usage error.
 #include "cli/cli_options.hpp"

@@ -18,7 +18,7 @@
 
 namespace fortu {
 
-/// The example models: `given` if not empty, else examples/ found near the binary, else ./examples.
+/// The example models: `given` if not empty, else examples_dir() (cli/data_paths.hpp).
 std::filesystem::path examples_folder(const std::string& given);
 
 /// Reads and compiles a model file (.fortu, or a .vm model imported); diagnostics go to

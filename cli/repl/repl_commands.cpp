@@ -21,7 +21,7 @@
 namespace fortu {
 namespace {
 
-/// The classic engine's default budget, as `fortu run` (cli_options.hpp).
+/// The classic engine's budget in the REPL (`fortu bench`'s default; `fortu run`'s is --budget).
 constexpr double kClassicBudget = 2e10;
 
 std::vector<std::string> split_words(const std::string& text) {

@@ -1,9 +1,14 @@
-// cli/cli_options.cpp — command-line parsing; every malformed value is a UsageError
-// naming the option and what was expected.
+// cli/cli_options.cpp — the commands run, eval, check, ir and singular: each one's option
+// table (option_table.hpp) built from shared groups (model, grid, engine, pictures, run
+// outputs), and the checks across options. Every malformed value is a UsageError naming the
+// option and what was expected.
 #include "cli/cli_options.hpp"
+
+#include "cli/option_table.hpp"
 
 #include "runtime/grid.hpp"
 #include "runtime/output.hpp"
+#include "runtime/output_formats.hpp"
 
 #include <charconv>
 #include <cmath>
@@ -62,9 +67,200 @@ std::array<std::optional<AxisRange>, 3> parse_domain(const std::string& text) {
     return domain;
 }
 
+/// The --engine help: one line per engine of the table.
+std::string engine_help() {
+    std::string text = fmt::format("the engine (default {}):", default_engine().name());
+    for (const Engine* engine : engine_table()) text += fmt::format("\n  {:<12}{}", engine->name(), engine->summary());
+    return text;
+}
+
+int parse_threads(const std::string& s) {
+    int threads = 0;
+    auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), threads);
+    if (ec != std::errc() || ptr != s.data() + s.size() || threads < 1 || threads > 1024)
+        throw UsageError(fmt::format("--threads: '{}' is not a thread count from 1 to 1024", s));
+    return threads;
+}
+
+int parse_slice(const std::string& s) {
+    int v = 0;
+    auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+    if (ec != std::errc() || ptr != s.data() + s.size() || v < 0)
+        throw UsageError(fmt::format("--slice: '{}' is not a slice number", s));
+    return v;
+}
+
+std::string checked_output(const std::string& path) {
+    if (!output_format_for(path)) {
+        std::string extensions;
+        for (const std::string& e : supported_output_extensions()) extensions += (extensions.empty() ? "." : ", .") + e;
+        throw UsageError(fmt::format("-o: unknown output format '{}' (use {})", path, extensions));
+    }
+    return path;
+}
+
+/// What the options of one parse leave behind besides CliOptions.
+struct EngineChoice {
+    bool sign_only = false, engine_given = false;
+};
+
+void add_model_options(OptionTable& t, CliOptions& o) {
+    t.option("--rsystem", "r0|alpha=A|minmax", "the R-system of & and | (wins over RSYSTEM in the script)",
+             [&o](const std::string& r) {
+                 o.rsystem = parse_rsystem(r);
+                 if (!o.rsystem)
+                     throw UsageError(fmt::format("--rsystem: '{}' is not r0, minmax or alpha=A with A in (-1, 1]", r));
+             });
+}
+
+void add_grid_options(OptionTable& t, CliOptions& o) {
+    t.option("--size", "N|WxH|WxHxD", "grid nodes per axis (both ends included); default: RECTBMP,\n"
+                                      "else 256x256 (2D) or 64x64x64 (3D)",
+             [&o](const std::string& v) { o.size = parse_size(v); });
+    t.option("--domain", "x0:x1,y0:y1[,z0:z1]", "the box (wins over the script's ranges); default: the\n"
+                                                "script's ARGUMENT ranges or RECTANGLE, else [-1, 1]",
+             [&o](const std::string& v) { o.domain = parse_domain(v); });
+}
+
+void add_engine_options(OptionTable& t, CliOptions& o, EngineChoice& choice, bool grids) {
+    t.option("--engine", "NAME", engine_help(), [&o, &choice](const std::string& e) {
+        o.engine = find_engine(e);
+        if (!o.engine) throw UsageError(fmt::format("--engine: unknown engine '{}' (use {})", e, engine_names(", ", " or ")));
+        choice.engine_given = true;
+    });
+    if (grids)
+        t.flag("--sign-only", "--engine sign: compute only the sign (1 inside, 0 boundary,\n"
+                              "-1 outside, NaN invalid): for sign pictures and contours,\n"
+                              "much faster on large models",
+               [&choice] { choice.sign_only = true; });
+    t.option("--precision", "float64|float32", "the voxel engine's numbers (default float64; float32 is\n"
+                                               "about twice as fast, values within 1e-5 relative to the field)",
+             [&o](const std::string& p) {
+                 if (p == "float64") o.engine_settings.precision = Precision::Float64;
+                 else if (p == "float32") o.engine_settings.precision = Precision::Float32;
+                 else throw UsageError(fmt::format("--precision: '{}' is not float64 or float32", p));
+             });
+    t.flag("--no-hoist", "the voxel engine computes X-only and Y-only sub-expressions\n"
+                         "at every point instead of once per column/row (to compare)",
+           [&o] { o.engine_settings.hoist = false; });
+    if (grids)
+        t.option("--threads", "N", "worker threads (default: all cores)",
+                 [&o](const std::string& v) { o.threads = parse_threads(v); });
+    t.option("--budget", "OPS", "the classic engine refuses runs above OPS operations\n"
+                                "(default 1e10, about a minute here); --force runs anyway",
+             [&o](const std::string& v) {
+                 o.budget = parse_double(v, "--budget");
+                 if (o.budget <= 0) throw UsageError("--budget must be positive");
+             });
+    t.flag("--force", "run the classic engine even above the budget", [&o] { o.force = true; });
+}
+
+void add_picture_options(OptionTable& t, CliOptions& o) {
+    t.option("-o,--output", "FILE", output_formats_usage(0) + "\n3D pictures: a slice, or one file per slice when FILE\n"
+                                                             "contains %d",
+             [&o](const std::string& v) { o.output = checked_output(v); });
+    t.option("--slice", "K", "the z slice of a 3D picture (default: the middle one)",
+             [&o](const std::string& v) { o.slice = parse_slice(v); });
+}
+
+void add_run_outputs(OptionTable& t, CliOptions& o) {
+    t.option("--mimages", "FILE", "the M-images: FILE.exr, or FILE_%d.png for grey PNGs",
+             [&o](const std::string& v) { o.mimages = v; });
+    t.option("--contour", "FILE.svg", "the zero contour as SVG", [&o](const std::string& v) { o.contour = v; });
+    t.flag("--float32", ".npy as float32 instead of float64", [&o] { o.float32 = true; });
+    t.flag("--stats", "nodes, sharing, classic cost, time per stage, points/s,\ninvalid points, peak memory",
+           [&o] { o.stats = true; });
+}
+
+struct CommandRow {
+    const char* name;
+    const char* usage;
+    void (*add)(OptionTable&, CliOptions&, EngineChoice&);
+};
+
+/// The commands of this parser (golden, bench and repl have their own, in their folders).
+const CommandRow kCommands[] = {
+    {"run", "usage: fortu run MODEL.fortu [options]\n  evaluate on a grid, write images and data\n",
+     [](OptionTable& t, CliOptions& o, EngineChoice& c) {
+         add_grid_options(t, o);
+         add_engine_options(t, o, c, true);
+         add_model_options(t, o);
+         add_picture_options(t, o);
+         add_run_outputs(t, o);
+     }},
+    {"eval", "usage: fortu eval MODEL.fortu X Y [Z] [options]\n  value, gradient and M-image normal at a point\n",
+     [](OptionTable& t, CliOptions& o, EngineChoice& c) {
+         add_grid_options(t, o);
+         add_engine_options(t, o, c, false);
+         add_model_options(t, o);
+     }},
+    {"check", "usage: fortu check MODEL.fortu [options]\n  parse and check; diagnostics only\n",
+     [](OptionTable& t, CliOptions& o, EngineChoice&) { add_model_options(t, o); }},
+    {"ir", "usage: fortu ir MODEL.fortu [options]\n  print the lowered IR (nodes, sharing, costs)\n",
+     [](OptionTable& t, CliOptions& o, EngineChoice&) {
+         add_model_options(t, o);
+         t.option("--stage", "lower|tape|hoist", "the lowered DAG (default), the voxel engine's tape\n"
+                                                 "(slots, immediates), or its column/row/per-point split",
+                  [&o](const std::string& s) {
+                      const std::optional<IrStage> stage = parse_ir_stage(s);
+                      if (!stage) throw UsageError(fmt::format("--stage: '{}' is not lower, tape or hoist", s));
+                      o.stage = *stage;
+                  });
+     }},
+    {"singular", "usage: fortu singular MODEL.fortu [options]\n  singular (corner) points: K = 0 and R = 0 "
+                 "(search grid: --size, default 401x401 / 48^3)\n",
+     [](OptionTable& t, CliOptions& o, EngineChoice&) {
+         add_grid_options(t, o);
+         add_model_options(t, o);
+         add_picture_options(t, o);
+     }},
+};
+
+const CommandRow* find_command(const std::string& name) {
+    for (const CommandRow& c : kCommands)
+        if (name == c.name) return &c;
+    return nullptr;
+}
+
+/// Checks across options, once all are applied.
+void check_combinations(CliOptions& o, const EngineChoice& choice) {
+    if (!o.mimages.empty())
+        if (auto problem = mimages_path_problem(o.mimages)) throw UsageError(fmt::format("--mimages: {}", *problem));
+    const OutputFormat* contour = o.contour.empty() ? nullptr : output_format_for(o.contour);
+    if (!o.contour.empty() && (!contour || contour->kind != OutputKind::Contour))
+        throw UsageError(fmt::format("--contour: '{}' must be an .svg file", o.contour));
+    // --sign-only is --engine sign; naming the default engine beside it is harmless, as before.
+    if (choice.sign_only && choice.engine_given && o.engine != &default_engine() && !o.engine->capabilities().sign_only)
+        throw UsageError(fmt::format("--sign-only runs the interval renderer; it does not combine with --engine {}",
+                                     o.engine->name()));
+    if (choice.sign_only) o.engine = &engine_named("sign");
+    if (o.engine->capabilities().sign_only && !o.mimages.empty())
+        throw UsageError(fmt::format("{} computes no values; the M-images need them (drop one of the two)",
+                                     choice.sign_only ? "--sign-only" : fmt::format("--engine {}", o.engine->name())));
+}
+
+void check_positionals(const CliOptions& o) {
+    if (o.positional.empty()) throw UsageError(fmt::format("'fortu {}' needs a MODEL file", o.command));
+    if (o.command == "eval") {
+        if (o.positional.size() < 3 || o.positional.size() > 4) throw UsageError("'fortu eval' needs MODEL X Y [Z]");
+    } else if (o.positional.size() > 1) {
+        throw UsageError(fmt::format("unexpected argument '{}'", o.positional[1]));
+    }
+}
+
+/// The option table of `command` filled to write into `o`.
+OptionTable command_table(const CommandRow& command, CliOptions& o, EngineChoice& choice) {
+    OptionTable table(command.name, command.usage);
+    command.add(table, o, choice);
+    table.positionals(o.positional);
+    return table;
+}
+
 }  // namespace
 
 std::string usage_text() {
+    CliOptions unused;
+    EngineChoice choice;
     return R"(fortu — evaluate FORTU R-function models (RANOK scripts) on 2D/3D grids
 
 usage:
@@ -78,40 +274,12 @@ usage:
   fortu golden DIR|FILE...               run golden tests of scripted models
   fortu bench MODEL... | --paper         time the engines (the papers' comparison)
   fortu repl [MODEL.fortu]               interactive session
-  fortu help | --help                    this text
+  fortu help | --help | -h               this text
+  fortu --version | -V                   the version
+  fortu COMMAND --help                   that command's options
 
-options:
-  --size N | WxH | WxHxD      grid nodes per axis (both ends included); default: RECTBMP,
-                              else 256x256 (2D) or 64x64x64 (3D)
-  --domain x0:x1,y0:y1[,z0:z1]  the box (wins over the script's ranges); default: the
-                              script's ARGUMENT ranges or RECTANGLE, else [-1, 1]
-  --engine voxel|classic      voxel: functional-voxel composition, every node once per
-                              point (default); classic: recursive, nothing saved
-  --rsystem r0|alpha=A|minmax the R-system of & and | (wins over RSYSTEM in the script)
-  -o FILE                     )" + output_formats_usage(30) + R"(
-                              3D pictures: a slice, or one file per slice when FILE
-                              contains %d
-  --slice K                   the z slice of a 3D picture (default: the middle one)
-  --mimages FILE              the M-images: FILE.exr, or FILE_%d.png for grey PNGs
-  --float32                   .npy as float32 instead of float64
-  --precision float64|float32 the voxel engine's numbers (default float64; float32 is
-                              about twice as fast, values within 1e-5 relative to the field)
-  --no-hoist                  the voxel engine computes X-only and Y-only sub-expressions
-                              at every point instead of once per column/row (to compare)
-  --sign-only                 compute only the sign (1 inside, 0 boundary, -1 outside, NaN
-                              invalid) with the interval-pruned quadtree/octree renderer:
-                              for sign pictures and contours, much faster on large models
-  --stage lower|tape|hoist    fortu ir: the lowered DAG (default), the voxel engine's tape
-                              (slots, immediates), or its column/row/per-point split
-  --stats                     nodes, sharing, classic cost, time per stage, points/s,
-                              invalid points, peak memory
-  --threads N                 worker threads (default: all cores)
-  --budget OPS                the classic engine refuses runs above OPS operations
-                              (default 1e10, about a minute here); --force runs anyway
-  --force                     run the classic engine even above the budget
-
-exit status: 0 success, 1 model error (diagnostics printed), 2 usage error
-)";
+run's )" + command_table(*find_command("run"), unused, choice).options_help() +
+           "\nexit status: 0 success, 1 model error (diagnostics printed), 2 usage error\n";
 }
 
 CliOptions parse_command_line(const std::vector<std::string>& args) {
@@ -119,98 +287,20 @@ CliOptions parse_command_line(const std::vector<std::string>& args) {
     if (args.empty()) throw UsageError("no command given (try 'fortu --help')");
     o.command = args[0];
     if (o.command == "--help" || o.command == "-h") o.command = "help";
-    if (o.command == "--version") o.command = "version";
-    static const char* kCommands[] = {"run", "eval", "check", "ir", "singular", "help", "version"};
-    bool known = false;
-    for (const char* c : kCommands) known = known || o.command == c;
-    if (!known) throw UsageError(fmt::format("unknown command '{}' (try 'fortu --help')", o.command));
+    if (o.command == "--version" || o.command == "-V") o.command = "version";
+    if (o.command == "help" || o.command == "version") return o;
+    const CommandRow* command = find_command(o.command);
+    if (!command) throw UsageError(fmt::format("unknown command '{}' (try 'fortu --help')", o.command));
 
-    for (std::size_t i = 1; i < args.size(); ++i) {
-        const std::string& a = args[i];
-        auto value = [&](const char* name) -> const std::string& {
-            if (i + 1 >= args.size()) throw UsageError(fmt::format("{} needs a value", name));
-            return args[++i];
-        };
-        if (a == "--help" || a == "-h") { o.command = "help"; return o; }
-        else if (a == "--size") o.size = parse_size(value("--size"));
-        else if (a == "--domain") o.domain = parse_domain(value("--domain"));
-        else if (a == "--engine") {
-            const std::string& e = value("--engine");
-            auto kind = parse_engine(e);
-            if (!kind) throw UsageError(fmt::format("--engine: unknown engine '{}' (use voxel or classic)", e));
-            o.engine = *kind;
-        } else if (a == "--rsystem") {
-            const std::string& r = value("--rsystem");
-            o.rsystem = parse_rsystem(r);
-            if (!o.rsystem)
-                throw UsageError(fmt::format("--rsystem: '{}' is not r0, minmax or alpha=A with A in (-1, 1]", r));
-        } else if (a == "-o" || a == "--output") {
-            o.output = value("-o");
-            if (!output_format_for(o.output)) {
-                std::string extensions;
-                for (const std::string& e : supported_output_extensions())
-                    extensions += (extensions.empty() ? "." : ", .") + e;
-                throw UsageError(fmt::format("-o: unknown output format '{}' (use {})", o.output, extensions));
-            }
-        } else if (a == "--mimages") o.mimages = value("--mimages");
-        else if (a == "--contour") o.contour = value("--contour");
-        else if (a == "--slice") {
-            const std::string& s = value("--slice");
-            int v = 0;
-            auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-            if (ec != std::errc() || ptr != s.data() + s.size() || v < 0)
-                throw UsageError(fmt::format("--slice: '{}' is not a slice number", s));
-            o.slice = v;
-        } else if (a == "--stats") o.stats = true;
-        else if (a == "--force") o.force = true;
-        else if (a == "--float32") o.float32 = true;
-        else if (a == "--sign-only") o.sign_only = true;
-        else if (a == "--no-hoist") o.hoist = false;
-        else if (a == "--stage") {
-            const std::string& s = value("--stage");
-            const std::optional<IrStage> stage = parse_ir_stage(s);
-            if (!stage) throw UsageError(fmt::format("--stage: '{}' is not lower, tape or hoist", s));
-            o.stage = *stage;
-        }
-        else if (a == "--precision") {
-            const std::string& p = value("--precision");
-            if (p == "float64") o.precision = Precision::Float64;
-            else if (p == "float32") o.precision = Precision::Float32;
-            else throw UsageError(fmt::format("--precision: '{}' is not float64 or float32", p));
-        }
-        else if (a == "--budget") {
-            o.budget = parse_double(value("--budget"), "--budget");
-            if (o.budget <= 0) throw UsageError("--budget must be positive");
-        } else if (a == "--threads") {
-            const std::string& s = value("--threads");
-            auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), o.threads);
-            if (ec != std::errc() || ptr != s.data() + s.size() || o.threads < 1 || o.threads > 1024)
-                throw UsageError(fmt::format("--threads: '{}' is not a thread count from 1 to 1024", s));
-        } else if (a.size() > 1 && a[0] == '-' && !(std::isdigit(static_cast<unsigned char>(a[1])) || a[1] == '.')) {
-            throw UsageError(fmt::format("unknown option '{}' (try 'fortu --help')", a));
-        } else {
-            o.positional.push_back(a);
-        }
+    EngineChoice choice;
+    const OptionTable table = command_table(*command, o, choice);
+    if (!table.parse(std::vector<std::string>(args.begin() + 1, args.end()))) {
+        o.help = table.help();
+        o.command = "help";
+        return o;
     }
-    if (!o.mimages.empty())
-        if (auto problem = mimages_path_problem(o.mimages))
-            throw UsageError(fmt::format("--mimages: {}", *problem));
-    if (!o.contour.empty() && (!output_format_for(o.contour) || output_format_for(o.contour)->kind != OutputKind::Contour))
-        throw UsageError(fmt::format("--contour: '{}' must be an .svg file", o.contour));
-
-    if (o.sign_only && o.engine == EngineKind::Classic)
-        throw UsageError("--sign-only runs the interval renderer; it does not combine with --engine classic");
-    if (o.sign_only && !o.mimages.empty())
-        throw UsageError("--sign-only computes no values; the M-images need them (drop one of the two)");
-
-    const bool needs_model = o.command != "help" && o.command != "version";
-    if (needs_model && o.positional.empty()) throw UsageError(fmt::format("'fortu {}' needs a MODEL file", o.command));
-    if (o.command == "eval") {
-        if (o.positional.size() < 3 || o.positional.size() > 4)
-            throw UsageError("'fortu eval' needs MODEL X Y [Z]");
-    } else if (needs_model && o.positional.size() > 1) {
-        throw UsageError(fmt::format("unexpected argument '{}'", o.positional[1]));
-    }
+    check_combinations(o, choice);
+    check_positionals(o);
     return o;
 }
 

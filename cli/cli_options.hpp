@@ -1,7 +1,10 @@
-// cli/cli_options.hpp — the command line: parsing `fortu COMMAND [options]` into one
-// struct, with usage errors (exit status 2) reported before any work is done.
+// cli/cli_options.hpp — the command line of run, eval, check, ir and singular: parsing
+// `fortu COMMAND [options]` into one struct, with usage errors (exit status 2) reported
+// before any work is done. (golden, bench and repl parse their own options, in cli/golden/,
+// cli/bench/ and cli/repl/, with the same OptionTable.)
 #pragma once
 
+#include "cli/option_table.hpp"
 #include "interp/engine.hpp"
 #include "interp/model.hpp"
 #include "interp/stage_print.hpp"
@@ -14,17 +17,15 @@
 
 namespace fortu {
 
-/// A usage error: the message is printed as `fortu: error: MESSAGE` with exit status 2.
-struct UsageError : std::runtime_error {
-    using std::runtime_error::runtime_error;
-};
 
 struct CliOptions {
-    std::string command;                       ///< run, eval, check, ir, help, version
+    std::string command;                       ///< run, eval, check, ir, singular, help, version
+    std::string help;                          ///< `fortu COMMAND --help`: that command's help (command "help")
     std::vector<std::string> positional;       ///< MODEL, then coordinates for eval
     std::vector<int> size;                     ///< --size: 1 to 3 node counts
     std::array<std::optional<AxisRange>, 3> domain;  ///< --domain
-    EngineKind engine = EngineKind::Voxel;
+    const Engine* engine = &default_engine();  ///< --engine (--sign-only: the sign engine)
+    EngineSettings engine_settings;            ///< --precision, --no-hoist
     std::optional<RSystem> rsystem;
     std::string output;                        ///< -o
     std::string mimages;                       ///< --mimages
@@ -35,16 +36,13 @@ struct CliOptions {
     double budget = 1e10;                      ///< classic operations per run before refusing (~1 min here)
     int threads = 0;
     bool float32 = false;                      ///< --float32 for .npy output
-    Precision precision = Precision::Float64;  ///< --precision (voxel engine)
-    bool hoist = true;                          ///< off with --no-hoist (voxel engine)
-    bool sign_only = false;                    ///< --sign-only: interval-pruned sign render
     IrStage stage = IrStage::Lower;            ///< --stage: what `fortu ir` prints
 };
 
 /// Parses argv (without the program name). Throws UsageError.
 CliOptions parse_command_line(const std::vector<std::string>& args);
 
-/// The text of `fortu --help`.
+/// The text of `fortu --help`: the commands, then run's options.
 std::string usage_text();
 
 }  // namespace fortu

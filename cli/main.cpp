@@ -1,15 +1,16 @@
-// cli/main.cpp — the `fortu` binary: run, eval, check, ir. Each command loads and
+// cli/main.cpp — the `fortu` binary: run, eval, check, ir, singular here, golden, bench and
+// repl handed to their libraries (commands.hpp). Each command here loads and
 // compiles the model through interp/, then evaluates and writes through the engines and
 // runtime/ writers. Exit status: 0 success, 1 model error, 2 usage error.
 #include "cli/cli_options.hpp"
 #include "cli/commands.hpp"
+#include "cli/data_paths.hpp"
 
 #include "grammar/diagnostic.hpp"
 #include "interp/classic_cost.hpp"
 #include "interp/engine.hpp"
 #include "interp/ir_print.hpp"
 #include "interp/lower.hpp"
-#include "interp/sign_render.hpp"
 #include "interp/singular.hpp"
 #include "interp/vm_import.hpp"
 #include "runtime/field_stats.hpp"
@@ -43,7 +44,7 @@ std::optional<Model> load_model(const CliOptions& o, bool show_notes, double& se
     DiagnosticSink sink;
     CompileOptions options;
     options.rsystem = o.rsystem;
-    options.include_dirs = installed_stdlib_dirs();
+    options.include_dirs = stdlib_dirs();
     std::optional<Model> model = is_vm_path(o.positional[0]) ? import_vm(source, sink) : compile(source, options, sink);
     for (const Diagnostic& d : sink.diagnostics())
         if (d.severity != Severity::Note || show_notes) std::cerr << render(d);
@@ -97,7 +98,7 @@ double parse_coordinate(const std::string& text) {
 
 /// Refuses a classic run whose expanded-tree cost exceeds the budget (unless --force).
 bool classic_within_budget(const Model& model, const CliOptions& o, double points) {
-    if (o.engine != EngineKind::Classic || o.force) return true;
+    if (!o.engine->capabilities().expanded_tree_cost || o.force) return true;
     const double per_point = classic_operations_per_point(model.graph, model.root);
     const int depth = dag_depth(model.graph, model.root);
     if (depth > kClassicMaxDepth) {
@@ -127,16 +128,20 @@ int command_eval(const CliOptions& o) {
         throw UsageError(fmt::format("'fortu eval': the model has {} argument(s); give {} coordinate(s)",
                                      dims, std::max(dims, 2)));
     for (int i = 0; i < given; ++i) p[i] = parse_coordinate(o.positional[1 + i]);
+    if (!o.engine->capabilities().point)
+        throw UsageError(fmt::format("'fortu eval': the {} engine evaluates whole grids only (use {})", o.engine->name(),
+                                     engine_names(", ", " or ", [](const EngineCapabilities& c) { return c.point; })));
     if (!classic_within_budget(*model, o, 1.0 + model->dims())) return kExitUsage;
 
-    const PointValue v = evaluate_point(*model, p, o.engine);
+    const std::unique_ptr<Engine> engine = o.engine->tuned(o.engine_settings);
+    const PointValue v = evaluate_point(*model, p, *engine);
     // The M-image normal: the plane through the point and its forward neighbours one grid
     // step away (the grid run would use), fv-method.md §1.
     const Grid grid = make_grid(*model, o);
     const double h[3] = {grid.x.step() > 0 ? grid.x.step() : 1.0, grid.y.step() > 0 ? grid.y.step() : 1.0,
                          grid.z.step() > 0 ? grid.z.step() : 1.0};
     auto value_at = [&](double dx, double dy, double dz) {
-        return evaluate_point(*model, {p[0] + dx, p[1] + dy, p[2] + dz}, o.engine).value;
+        return evaluate_point(*model, {p[0] + dx, p[1] + dy, p[2] + dz}, *engine).value;
     };
     std::cout << fmt::format("value: {}\n", v.value);
     if (model->dims() == 3) {
@@ -175,7 +180,7 @@ int command_singular(const CliOptions& o) {
     if (!o.output.empty()) {
         OutputOptions out;
         if (o.slice) out.slice = *o.slice;
-        const Field field = evaluate_grid(*model, grid, EngineKind::Voxel);
+        const Field field = evaluate_grid(*model, grid, default_engine());
         const int slice = grid.dims == 3 ? (o.slice ? *o.slice : grid.slices() / 2) : 0;
         for (const SingularPoint& s : points)
             if (grid.dims == 2 || std::fabs(s.point[2] - grid.z_at(slice)) <= grid.z.step() / 2)
@@ -197,15 +202,14 @@ int command_run(const CliOptions& o) {
     const Grid grid = make_grid(*model, o);
     if (!classic_within_budget(*model, o, double(grid.points()))) return kExitUsage;
 
-    Progress progress(fmt::format("{} {}", engine_name(o.engine), grid_text(grid)), grid.points());
+    const std::unique_ptr<Engine> engine = o.engine->tuned(o.engine_settings);
+    const EngineCapabilities can = engine->capabilities();
+    Progress progress(fmt::format("{} {}", engine->name(), grid_text(grid)), grid.points());
     EvalOptions eval;
     eval.threads = o.threads;
-    eval.precision = o.precision;
-    eval.hoist = o.hoist;
     eval.progress = [&](std::size_t n) { progress.advance(n); };
     Stopwatch clock;
-    Field field = o.sign_only ? sign_render(model->graph, model->root, grid, eval)
-                              : evaluate_grid(*model, grid, o.engine, eval);
+    Field field = evaluate_grid(*model, grid, *engine, eval);
     const double eval_seconds = clock.seconds();
     const std::size_t eval_peak = peak_rss_bytes();  // before any image writer loads OpenImageIO
     progress.finish();
@@ -233,7 +237,7 @@ int command_run(const CliOptions& o) {
     if (!o.stats && o.output.empty() && o.mimages.empty() && o.contour.empty()) {
         std::cout << fmt::format("{} {} with {} in {}: inside {}, boundary {}, outside {}, invalid {}; "
                                  "values in [{}, {}] (write them with -o FILE)\n",
-                                 o.positional[0], grid_text(grid), engine_name(o.engine),
+                                 o.positional[0], grid_text(grid), engine->name(),
                                  format_duration(eval_seconds), stats.positive, stats.zero, stats.negative,
                                  stats.invalid, stats.min, stats.max);
     }
@@ -252,8 +256,8 @@ int command_run(const CliOptions& o) {
             grid.y.min, grid.y.max, grid.dims == 3 ? fmt::format(", z [{}, {}]", grid.z.min, grid.z.max) : "",
             s.nodes, s.operations, s.shared, s.reuses, format_operations(s.classic_operations),
             format_operations(double(s.operations)),
-            o.engine == EngineKind::Voxel && !o.sign_only && o.hoist ? hoisted_text(s) : "", o.sign_only ? "interval sign renderer" : engine_name(o.engine),
-            o.engine == EngineKind::Voxel && !o.sign_only && o.precision == Precision::Float32 ? " (float32)" : "", o.threads > 0 ? o.threads : int(std::max(1u, std::thread::hardware_concurrency())),
+            can.known_and_kept && o.engine_settings.hoist ? hoisted_text(s) : "", engine->name(),
+            can.sign_only ? " (interval sign renderer)" : can.float32 ? " (float32)" : "", o.threads > 0 ? o.threads : int(std::max(1u, std::thread::hardware_concurrency())),
             compile_seconds, eval_seconds, write_seconds,
             format_operations(eval_seconds > 0 ? double(grid.points()) / eval_seconds : 0.0),
             stats.min, stats.max, stats.positive, stats.zero, stats.negative, stats.invalid,
@@ -277,8 +281,8 @@ int main(int argc, char** argv) {
             if (args[0] == "repl") return run_repl_command(rest);
         }
         CliOptions o = parse_command_line(args);
-        if (o.command == "help") { std::cout << usage_text(); return 0; }
-        if (o.command == "version") { std::cout << "fortu 0.1.0\n"; return 0; }
+        if (o.command == "help") { std::cout << (o.help.empty() ? usage_text() : o.help); return 0; }
+        if (o.command == "version") { std::cout << version_text(); return 0; }
         if (o.command == "check") return command_check(o);
         if (o.command == "ir") return command_ir(o);
         if (o.command == "eval") return command_eval(o);

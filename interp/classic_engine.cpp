@@ -4,7 +4,9 @@
 #include "interp/ir/kernels.hpp"
 #include "interp/parallel.hpp"
 
+#include <cmath>
 #include <cstdint>
+#include <stdexcept>
 
 namespace fortu {
 namespace {
@@ -66,8 +68,13 @@ private:
 
 }  // namespace
 
-void classic_evaluate_grid(const ir::Graph& graph, ir::NodeId root, Field& field, const EvalOptions& options) {
-    const Grid& grid = field.grid;
+Field ClassicEngine::evaluate_grid(const ir::Graph& graph, ir::NodeId root, const Grid& grid,
+                                   const EvalOptions& options, const NodeValues& reuse) const {
+    if (!reuse.empty())
+        throw std::invalid_argument("known and kept node values are the voxel engine's (the classic engine saves nothing)");
+    Field field;
+    field.grid = grid;
+    field.values.assign(grid.points(), std::nan(""));
     const std::size_t rows_total = static_cast<std::size_t>(grid.rows()) * grid.slices();
     parallel_for(rows_total, options, [&](std::size_t line, int) {
         const int row = static_cast<int>(line % grid.rows());
@@ -81,9 +88,10 @@ void classic_evaluate_grid(const ir::Graph& graph, ir::NodeId root, Field& field
         }
         return static_cast<std::size_t>(grid.cols());
     });
+    return field;
 }
 
-PointValue classic_evaluate_point(const ir::Graph& graph, ir::NodeId root, std::array<double, 3> point) {
+PointValue ClassicEngine::evaluate_point(const ir::Graph& graph, ir::NodeId root, std::array<double, 3> point) const {
     ir::Dual coords[3];
     for (int axis = 0; axis < 3; ++axis) coords[axis] = ir::Dual::variable(point[axis], axis);
     ClassicWalker<ir::Dual> walker(graph, coords);

@@ -15,8 +15,18 @@
 
 namespace fortu {
 
-void classic_evaluate_grid(const ir::Graph& graph, ir::NodeId root, Field& field, const EvalOptions& options);
-PointValue classic_evaluate_point(const ir::Graph& graph, ir::NodeId root, std::array<double, 3> point);
+class ClassicEngine final : public Engine {
+public:
+    std::string_view name() const override { return "classic"; }
+    std::string_view summary() const override { return "recursive per point, nothing saved (the papers' baseline)"; }
+    EngineCapabilities capabilities() const override {
+        return {.point = true, .gradients = true, .exact = true, .expanded_tree_cost = true};
+    }
+    std::unique_ptr<Engine> tuned(const EngineSettings&) const override { return std::make_unique<ClassicEngine>(); }
+    Field evaluate_grid(const ir::Graph& graph, ir::NodeId root, const Grid& grid, const EvalOptions& options,
+                        const NodeValues& reuse) const override;
+    PointValue evaluate_point(const ir::Graph& graph, ir::NodeId root, std::array<double, 3> point) const override;
+};
 
 /// How many nodes the classic engine evaluates for one point: the size of the expanded tree
 /// (tests use it to show that nothing is saved between references).

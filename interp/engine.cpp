@@ -1,8 +1,6 @@
-// interp/engine.cpp — engine selection and the entry points shared by both engines.
+// interp/engine.cpp — what every engine shares: looking engines up in the table, the
+// entry points callers use, and the grid a run samples. Knows no engine by name.
 #include "interp/engine.hpp"
-
-#include "interp/classic_engine.hpp"
-#include "interp/voxel_engine.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -10,35 +8,52 @@
 
 namespace fortu {
 
-std::optional<EngineKind> parse_engine(const std::string& name) {
-    if (name == "classic") return EngineKind::Classic;
-    if (name == "voxel") return EngineKind::Voxel;
-    return std::nullopt;
+PointValue Engine::evaluate_point(const ir::Graph&, ir::NodeId, std::array<double, 3>) const {
+    throw std::logic_error(std::string("the ") + std::string(name()) + " engine evaluates whole grids only");
 }
 
-const char* engine_name(EngineKind kind) {
-    return kind == EngineKind::Classic ? "classic" : "voxel";
+const Engine* find_engine(std::string_view name) {
+    for (const Engine* engine : engine_table())
+        if (engine->name() == name) return engine;
+    return nullptr;
 }
 
-Field evaluate_grid(const ir::Graph& graph, ir::NodeId root, const Grid& grid, EngineKind engine,
+const Engine& engine_named(std::string_view name) {
+    if (const Engine* engine = find_engine(name)) return *engine;
+    throw std::invalid_argument("unknown engine '" + std::string(name) + "'");
+}
+
+std::string engine_names(std::string_view separator, std::string_view last_separator,
+                         const std::function<bool(const EngineCapabilities&)>& filter) {
+    std::vector<std::string_view> names;
+    for (const Engine* engine : engine_table())
+        if (!filter || filter(engine->capabilities())) names.push_back(engine->name());
+    std::string text;
+    for (std::size_t i = 0; i < names.size(); ++i) {
+        if (i > 0) text += i + 1 == names.size() ? last_separator : separator;
+        text += names[i];
+    }
+    return text;
+}
+
+std::vector<std::reference_wrapper<const Engine>> exact_engines() {
+    std::vector<std::reference_wrapper<const Engine>> engines;
+    for (const Engine* engine : engine_table())
+        if (engine->capabilities().exact) engines.push_back(*engine);
+    return engines;
+}
+
+Field evaluate_grid(const ir::Graph& graph, ir::NodeId root, const Grid& grid, const Engine& engine,
                     const EvalOptions& options) {
-    Field field;
-    field.grid = grid;
-    field.values.assign(grid.points(), std::nan(""));
-    if (engine == EngineKind::Classic && !(options.known.empty() && options.keep.empty()))
-        throw std::invalid_argument("known and kept node values are the voxel engine's (the classic engine saves nothing)");
-    if (engine == EngineKind::Classic) classic_evaluate_grid(graph, root, field, options);
-    else voxel_evaluate_grid(graph, root, field, options);
-    return field;
+    return engine.evaluate_grid(graph, root, grid, options, {});
 }
 
-Field evaluate_grid(const Model& model, const Grid& grid, EngineKind engine, const EvalOptions& options) {
-    return evaluate_grid(model.graph, model.root, grid, engine, options);
+Field evaluate_grid(const Model& model, const Grid& grid, const Engine& engine, const EvalOptions& options) {
+    return engine.evaluate_grid(model.graph, model.root, grid, options, {});
 }
 
-PointValue evaluate_point(const Model& model, std::array<double, 3> point, EngineKind engine) {
-    return engine == EngineKind::Classic ? classic_evaluate_point(model.graph, model.root, point)
-                                         : PointEvaluator(model.graph, model.root)(point);
+PointValue evaluate_point(const Model& model, std::array<double, 3> point, const Engine& engine) {
+    return engine.evaluate_point(model.graph, model.root, point);
 }
 
 std::array<int, 3> grid_nodes(const Model& model, const std::vector<int>& size) {

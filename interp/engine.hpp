@@ -1,5 +1,10 @@
-// interp/engine.hpp — what both engines share: which one, how to run it, and the entry
-// points the command line calls (a whole grid, or one point with its gradient).
+// interp/engine.hpp — the one interface every engine implements, and the table of engines
+// (engine_table.cpp) that the command line, `fortu bench`, `fortu golden` and the REPL read.
+//
+// Why: the engines are what the papers compare, and new ones (float32, the sign renderer)
+// keep arriving. Each engine is a class in its own files that says what it can do
+// (EngineCapabilities) and owns its own options; adding one is its files plus one row of
+// the table. Nothing outside an engine's files names it except that row.
 #pragma once
 
 #include "interp/model.hpp"
@@ -10,52 +15,106 @@
 #include <atomic>
 #include <cstddef>
 #include <functional>
+#include <memory>
 #include <optional>
+#include <span>
 #include <string>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 namespace fortu {
 
-enum class EngineKind { Classic, Voxel };
+/// What every engine takes for a grid evaluation.
+struct EvalOptions {
+    int threads = 0;                                   ///< 0: all cores
+    std::function<void(std::size_t points)> progress;  ///< called as tiles/rows complete
+    const std::atomic<bool>* cancel = nullptr;         ///< set to stop early (REPL Ctrl-C)
+};
 
-std::optional<EngineKind> parse_engine(const std::string& name);
-const char* engine_name(EngineKind kind);
+/// Node values exchanged with an engine that has `known_and_kept` (the REPL's incremental
+/// evaluation); every array is in grid order, one value per point.
+struct NodeValues {
+    /// Read instead of computed; what only they use is not computed.
+    std::vector<std::pair<ir::NodeId, const double*>> known;
+    /// Also written out beside the root's. Incomplete if the evaluation was cancelled.
+    std::vector<std::pair<ir::NodeId, double*>> keep;
+    bool empty() const { return known.empty() && keep.empty(); }
+};
+
+/// What an engine can do; callers choose and refuse by these, never by an engine's name.
+struct EngineCapabilities {
+    bool grid = true;            ///< evaluates whole grids
+    bool point = false;          ///< evaluates single points (fortu eval, the REPL's probe)
+    bool gradients = false;      ///< its points come with exact gradients
+    bool sign_only = false;      ///< computes the sign (1, 0, -1, NaN), not the values
+    bool float32 = false;        ///< computes in single precision (values within 1e-5 of the field)
+    bool known_and_kept = false; ///< takes NodeValues (reads known nodes, writes kept ones)
+    /// Its values equal the reference's bit for bit: `golden-engine both` runs every such
+    /// engine and they must agree.
+    bool exact = false;
+    /// Walks the expanded tree (classic_cost.hpp): a run's cost is known before it starts
+    /// and refused above --budget.
+    bool expanded_tree_cost = false;
+};
 
 /// The voxel engine's number type: float64 (default: values identical to the classic
 /// engine's) or float32 (twice the lanes per vector; see README "Performance" for the tolerance).
 enum class Precision { Float64, Float32 };
 
-struct EvalOptions {
-    int threads = 0;                                   ///< 0: all cores
-    Precision precision = Precision::Float64;          ///< voxel engine only
-    std::function<void(std::size_t points)> progress;  ///< called as tiles/rows complete
-    const std::atomic<bool>* cancel = nullptr;         ///< set to stop early (REPL Ctrl-C)
-    /// Voxel engine: compute X-only sub-expressions once per column and those without X
-    /// once per row (hoist.hpp). Off only to compare against the plain tape.
+/// What the command line tunes (--precision, --no-hoist); each engine takes what applies to
+/// it and ignores the rest (Engine::tuned).
+struct EngineSettings {
+    Precision precision = Precision::Float64;
     bool hoist = true;
-    /// Voxel engine: nodes whose values on this grid are already known (grid order, one per
-    /// point); they are read instead of computed, and what only they use is not computed.
-    std::vector<std::pair<ir::NodeId, const double*>> known;
-    /// Voxel engine: nodes whose values are also written out (grid order, one per point),
-    /// beside the root's. Incomplete if the evaluation was cancelled.
-    std::vector<std::pair<ir::NodeId, double*>> keep;
 };
-
-/// Samples the model on every node of `grid` with the chosen engine. Both engines give
-/// the same values (the same kernels in the same order; see architecture.md).
-Field evaluate_grid(const Model& model, const Grid& grid, EngineKind engine,
-                    const EvalOptions& options = {});
-/// The same for any node of the model's graph (a sub-expression).
-Field evaluate_grid(const ir::Graph& graph, ir::NodeId root, const Grid& grid, EngineKind engine,
-                    const EvalOptions& options = {});
 
 struct PointValue {
     double value = 0.0;
     std::array<double, 3> gradient{};   ///< exact (forward-mode AD), d/dX, d/dY, d/dZ
 };
 
+class Engine {
+public:
+    virtual ~Engine() = default;
+    /// The name `--engine`, `--engines`, `golden-engine` and `:engine` take.
+    virtual std::string_view name() const = 0;
+    /// One line for --help.
+    virtual std::string_view summary() const = 0;
+    virtual EngineCapabilities capabilities() const = 0;
+    /// This engine with `settings` applied where they concern it.
+    virtual std::unique_ptr<Engine> tuned(const EngineSettings& settings) const = 0;
+    /// Samples `root` on every node of `grid`. `reuse` must be empty unless the engine has
+    /// `known_and_kept` (std::invalid_argument otherwise).
+    virtual Field evaluate_grid(const ir::Graph& graph, ir::NodeId root, const Grid& grid,
+                                const EvalOptions& options, const NodeValues& reuse) const = 0;
+    /// The value (and, with `gradients`, the gradient) at one point; engines without
+    /// `point` throw std::logic_error.
+    virtual PointValue evaluate_point(const ir::Graph& graph, ir::NodeId root, std::array<double, 3> point) const;
+};
+
+/// Every engine, in the order help texts list them (engine_table.cpp).
+std::span<const Engine* const> engine_table();
+/// The engine of that name, or nullptr.
+const Engine* find_engine(std::string_view name);
+/// The engine of that name; throws std::invalid_argument for an unknown one (for callers
+/// whose names are fixed, such as tests).
+const Engine& engine_named(std::string_view name);
+/// The names of the engines that pass `filter`, in table order, joined by `separator` with
+/// `last_separator` before the last: ("classic, voxel or sign"), ("classic|voxel").
+std::string engine_names(std::string_view separator = ", ", std::string_view last_separator = ", ",
+                         const std::function<bool(const EngineCapabilities&)>& filter = {});
+/// The engines whose values must agree (`exact`): what `golden-engine both` runs.
+std::vector<std::reference_wrapper<const Engine>> exact_engines();
+/// The engine fortu uses when none is named.
+const Engine& default_engine();
+
+/// Samples the model (or any node of its graph) on every node of `grid`.
+Field evaluate_grid(const Model& model, const Grid& grid, const Engine& engine, const EvalOptions& options = {});
+Field evaluate_grid(const ir::Graph& graph, ir::NodeId root, const Grid& grid, const Engine& engine,
+                    const EvalOptions& options = {});
 /// The value and gradient at one point (coordinates beyond the model's arguments ignored).
-PointValue evaluate_point(const Model& model, std::array<double, 3> point, EngineKind engine);
+PointValue evaluate_point(const Model& model, std::array<double, 3> point, const Engine& engine);
 
 /// The grid over the model's box — per axis `domain[a]` if given, else the script's range
 /// (ARGUMENT X(5), RECTANGLE), else [-1, 1] — with `nodes` per axis; a 2D model gets one

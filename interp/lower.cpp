@@ -818,17 +818,6 @@ private:
 
 }  // namespace
 
-std::vector<std::string> installed_stdlib_dirs() {
-    std::vector<std::string> dirs;
-    std::error_code ec;
-    const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-    if (!ec) {
-        dirs.push_back((exe.parent_path() / "stdlib").string());
-        dirs.push_back((exe.parent_path().parent_path() / "stdlib").string());
-    }
-    return dirs;
-}
-
 std::string RSystem::name() const {
     if (alpha == 0.0) return "R0";
     if (alpha == 1.0) return "MINMAX";

@@ -22,15 +22,12 @@ namespace fortu {
 struct CompileOptions {
     /// From the command line; wins over RSYSTEM statements in the script.
     std::optional<RSystem> rsystem;
-    /// Folders searched by INCLUDE after the script's own folder (the installed stdlib).
+    /// Folders searched by INCLUDE after the script's own folder: the stdlib, which the
+    /// command line finds (cli/data_paths.hpp).
     std::vector<std::string> include_dirs;
     /// Reads INCLUDE'd scripts and IMAGE pictures; nullptr = from disk (disk_source_loader()).
     const SourceLoader* loader = nullptr;
 };
-
-/// The installed stdlib folders: `stdlib/` next to the running binary, then one level up
-/// (the binary in a build tree's subfolder).
-std::vector<std::string> installed_stdlib_dirs();
 
 /// Parses, checks and lowers a script. Errors, warnings and notes go to `sink`; returns
 /// nullopt when there was any error.

@@ -376,14 +376,14 @@ void Session::keep(uint64_t key, std::vector<double> values) {
     }
 }
 
-Field Session::evaluate(const Grid& grid, EngineKind engine, const EvalOptions& options, EvalReport& report) {
+Field Session::evaluate(const Grid& grid, const Engine& engine, const EvalOptions& options, EvalReport& report) {
     report = EvalReport{};
-    report.engine = engine;
+    report.engine = std::string(engine.name());
     report.grid = grid;
     const Model& m = *model_;
     const ir::Graph& graph = m.graph;
     const std::vector<uint64_t> hashes = structural_hashes(graph, m.root);
-    const uint64_t grid_and_precision = mix(grid_key(grid), static_cast<uint64_t>(options.precision));
+    const uint64_t grid_and_precision = mix(grid_key(grid), engine.capabilities().float32 ? 1 : 0);
     auto key_of = [&](ir::NodeId id) { return mix(hashes[id], grid_and_precision); };
     auto count_operations = [&](const std::vector<ir::NodeId>& nodes, const std::vector<char>* stop) {
         std::size_t n = 0;
@@ -401,13 +401,14 @@ Field Session::evaluate(const Grid& grid, EngineKind engine, const EvalOptions& 
         return field;
     }
 
-    // Voxel engine: the definitions whose values are kept are read, not computed (the
-    // classic engine, by definition, saves nothing); those still computed are kept.
-    EvalOptions run = options;
+    // An engine with known_and_kept reads the definitions whose values are kept instead of
+    // computing them (the classic engine, by definition, saves nothing); those still
+    // computed are kept.
+    NodeValues run;
     std::vector<char> known(graph.size(), 0);
     std::vector<std::pair<ir::NodeId, std::vector<double>>> fresh;
     std::vector<ir::NodeId> computed = all;
-    if (engine == EngineKind::Voxel) {
+    if (engine.capabilities().known_and_kept) {
         std::vector<char> reachable(graph.size(), 0), listed(graph.size(), 0);
         for (ir::NodeId id : all) reachable[id] = 1;
         for (const auto& [name, node] : m.definitions) {
@@ -444,7 +445,7 @@ Field Session::evaluate(const Grid& grid, EngineKind engine, const EvalOptions& 
     report.computed_operations = count_operations(computed, &known);
 
     const auto start = std::chrono::steady_clock::now();
-    field = evaluate_grid(graph, m.root, grid, engine, run);
+    field = engine.evaluate_grid(graph, m.root, grid, options, run);
     report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (options.cancel && options.cancel->load()) {
         report.cancelled = true;

@@ -8,7 +8,7 @@
 // text). What is expensive is evaluating grids, so evaluation is incremental: the session
 // keeps the grid values of the model and of every definition it evaluated, under the
 // structural hash of their sub-DAG, and the voxel engine reads those values instead of
-// computing the definitions again (EvalOptions::known). After `CONSTANT R = 0.3` only what
+// computing the definitions again (NodeValues::known). After `CONSTANT R = 0.3` only what
 // depends on R is recomputed; an unchanged model (or one changed back) is not evaluated at all.
 #pragma once
 
@@ -54,7 +54,7 @@ struct EvalReport {
     std::vector<std::string> reused_definitions;  ///< definitions whose kept values were read instead
     std::size_t kept_definitions = 0;   ///< definitions whose values were kept for next time
     double seconds = 0.0;
-    EngineKind engine = EngineKind::Voxel;
+    std::string engine = "voxel";     ///< the engine's name
     Grid grid;
 };
 
@@ -93,8 +93,9 @@ public:
     Grid grid_with_nodes(int cols, int rows) const;
 
     /// Samples the model on `grid`, reusing the kept values of the model, or (voxel engine)
-    /// of the definitions it uses, on this grid. `report` says what was reused.
-    Field evaluate(const Grid& grid, EngineKind engine, const EvalOptions& options, EvalReport& report);
+    /// (engines with known_and_kept) of the definitions it uses, on this grid. `report` says
+    /// what was reused.
+    Field evaluate(const Grid& grid, const Engine& engine, const EvalOptions& options, EvalReport& report);
 
     /// A valid .fortu script of the session: domain and size as argument ranges and RECTBMP,
     /// `:rsystem` as RSYSTEM, then the statements in order. `fortu run` on it samples the

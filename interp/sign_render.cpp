@@ -14,6 +14,7 @@
 #include <exception>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <thread>
 #include <vector>
 
@@ -240,6 +241,12 @@ Field sign_render(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
         *stats = total;
     }
     return field;
+}
+
+Field SignEngine::evaluate_grid(const ir::Graph& graph, ir::NodeId root, const Grid& grid, const EvalOptions& options,
+                               const NodeValues& reuse) const {
+    if (!reuse.empty()) throw std::invalid_argument("the sign renderer takes no known or kept node values");
+    return sign_render(graph, root, grid, options);
 }
 
 }  // namespace fortu

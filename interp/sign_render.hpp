@@ -37,4 +37,17 @@ struct SignRenderStats {
 Field sign_render(const ir::Graph& graph, ir::NodeId root, const Grid& grid, const EvalOptions& options = {},
                   SignRenderStats* stats = nullptr);
 
+/// sign_render as an engine (`--engine sign`, alias `--sign-only`): grids only, signs only.
+class SignEngine final : public Engine {
+public:
+    std::string_view name() const override { return "sign"; }
+    std::string_view summary() const override {
+        return "only the sign (1, 0, -1, NaN): interval-pruned quadtree/octree";
+    }
+    EngineCapabilities capabilities() const override { return {.sign_only = true}; }
+    std::unique_ptr<Engine> tuned(const EngineSettings&) const override { return std::make_unique<SignEngine>(); }
+    Field evaluate_grid(const ir::Graph& graph, ir::NodeId root, const Grid& grid, const EvalOptions& options,
+                        const NodeValues& reuse) const override;
+};
+
 }  // namespace fortu

@@ -112,8 +112,8 @@ std::vector<SingularPoint> find_singular_points(const Model& model, const Grid& 
     const int slice_cells = dims == 3 ? g.slices() - 1 : 1;
     for (std::size_t i = 0; i < ops.size(); ++i) {
         const ir::Node& n = model.graph.node(ops[i]);
-        const Field phi = evaluate_grid(model.graph, n.args[0], g, EngineKind::Voxel);
-        const Field psi = evaluate_grid(model.graph, n.args[1], g, EngineKind::Voxel);
+        const Field phi = evaluate_grid(model.graph, n.args[0], g, default_engine());
+        const Field psi = evaluate_grid(model.graph, n.args[1], g, default_engine());
         const auto& [phi_at, psi_at] = operands[i];
         for (int s = 0; s < slice_cells; ++s)
             for (int r = 0; r + 1 < g.rows(); ++r)

@@ -7,6 +7,7 @@
 #include "interp/parallel.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 namespace fortu {
@@ -177,16 +178,17 @@ std::vector<std::vector<T>> evaluate_nodes(const Graph& graph, const std::vector
 constexpr std::size_t kMaxHoistedBytes = std::size_t{64} << 20;
 
 template <class T>
-void evaluate(const Graph& graph, NodeId root, Field& field, const EvalOptions& options) {
+void evaluate(const Graph& graph, NodeId root, Field& field, const EvalOptions& options, bool hoist,
+              const NodeValues& reuse) {
     const Grid& grid = field.grid;
     TapeSpec spec{{root}, {}, {}};
     std::vector<OutputSink<T>> outputs{{field.values.data(), nullptr}};
-    for (auto [node, values] : options.keep) {
+    for (auto [node, values] : reuse.keep) {
         spec.outputs.push_back(node);
         outputs.push_back({values, nullptr});
     }
     std::vector<InputSource<T>> inputs;
-    for (auto [node, values] : options.known) {
+    for (auto [node, values] : reuse.known) {
         spec.inputs.push_back(node);
         inputs.push_back({values, nullptr});
     }
@@ -194,7 +196,7 @@ void evaluate(const Graph& graph, NodeId root, Field& field, const EvalOptions& 
     Tiling tiling = Tiling::flat(grid.points());
     std::vector<std::vector<T>> column_values, row_values;
     std::vector<const T*> uniforms;
-    if (options.hoist && grid.cols() >= kMinHoistColumns) {
+    if (hoist && grid.cols() >= kMinHoistColumns) {
         HoistPlan plan = plan_hoisting(graph, spec.outputs, spec.inputs);
         const std::size_t row_count = grid.points() / grid.cols();
         const bool columns_fit = plan.column_nodes.size() * grid.cols() * sizeof(T) <= kMaxHoistedBytes;
@@ -221,9 +223,40 @@ void evaluate(const Graph& graph, NodeId root, Field& field, const EvalOptions& 
 
 }  // namespace
 
-void voxel_evaluate_grid(const ir::Graph& graph, ir::NodeId root, Field& field, const EvalOptions& options) {
-    if (options.precision == Precision::Float32) evaluate<float>(graph, root, field, options);
-    else evaluate<double>(graph, root, field, options);
+std::string_view VoxelEngine::name() const {
+    return options_.precision == Precision::Float32 ? "voxel-f32" : "voxel";
+}
+
+std::string_view VoxelEngine::summary() const {
+    return options_.precision == Precision::Float32
+               ? "voxel in float32: about 2x faster, within 1e-5 of the field"
+               : "functional-voxel composition, each node once per point";
+}
+
+EngineCapabilities VoxelEngine::capabilities() const {
+    const bool float32 = options_.precision == Precision::Float32;
+    return {.point = true, .gradients = true, .float32 = float32, .known_and_kept = true, .exact = !float32};
+}
+
+std::unique_ptr<Engine> VoxelEngine::tuned(const EngineSettings& settings) const {
+    VoxelOptions options = options_;
+    if (settings.precision == Precision::Float32) options.precision = Precision::Float32;
+    options.hoist = options.hoist && settings.hoist;
+    return std::make_unique<VoxelEngine>(options);
+}
+
+Field VoxelEngine::evaluate_grid(const ir::Graph& graph, ir::NodeId root, const Grid& grid,
+                                 const EvalOptions& options, const NodeValues& reuse) const {
+    Field field;
+    field.grid = grid;
+    field.values.assign(grid.points(), std::nan(""));
+    if (options_.precision == Precision::Float32) evaluate<float>(graph, root, field, options, options_.hoist, reuse);
+    else evaluate<double>(graph, root, field, options, options_.hoist, reuse);
+    return field;
+}
+
+PointValue VoxelEngine::evaluate_point(const ir::Graph& graph, ir::NodeId root, std::array<double, 3> point) const {
+    return PointEvaluator(graph, root)(point);
 }
 
 PointEvaluator::PointEvaluator(const ir::Graph& graph, ir::NodeId root) : tape_(compile_tape(graph, root)) {}

@@ -22,7 +22,31 @@ inline constexpr int kTileSize = 1024;
 /// tile per row would leave most of each vector loop's length unused.
 inline constexpr int kMinHoistColumns = 64;
 
-void voxel_evaluate_grid(const ir::Graph& graph, ir::NodeId root, Field& field, const EvalOptions& options);
+/// The voxel engine's own options.
+struct VoxelOptions {
+    /// float32: twice the lanes per vector; values within 1e-5 of the field (README "Performance").
+    Precision precision = Precision::Float64;
+    /// Compute X-only sub-expressions once per column and those without X once per row
+    /// (hoist.hpp). Off only to compare against the plain tape (--no-hoist).
+    bool hoist = true;
+};
+
+/// Points are computed in double for either precision (PointEvaluator); known and kept
+/// node values (NodeValues) are supported.
+class VoxelEngine final : public Engine {
+public:
+    explicit VoxelEngine(VoxelOptions options = {}) : options_(options) {}
+    std::string_view name() const override;
+    std::string_view summary() const override;
+    EngineCapabilities capabilities() const override;
+    std::unique_ptr<Engine> tuned(const EngineSettings& settings) const override;
+    Field evaluate_grid(const ir::Graph& graph, ir::NodeId root, const Grid& grid, const EvalOptions& options,
+                        const NodeValues& reuse) const override;
+    PointValue evaluate_point(const ir::Graph& graph, ir::NodeId root, std::array<double, 3> point) const override;
+
+private:
+    VoxelOptions options_;
+};
 
 /// Evaluates one node's expression at single points, value and exact gradient; the tape is
 /// compiled once, so repeated calls (Newton iterations, probes) cost one tape run each.

@@ -55,7 +55,7 @@ TEST_CASE("fortu bench: usage errors exit 2 before any work") {
     CHECK(run_fortu("bench " + m + " --plot out.png").out ==
           "fortu: error: --plot: 'out.png' must end in .svg (fortu writes SVG plots)\n");
     CHECK(run_fortu("bench " + m + " --json").out == "fortu: error: 'fortu bench': --json needs a value\n");
-    CHECK(run_fortu("bench " + m + " --frobnicate").out == "fortu: error: 'fortu bench': unknown option '--frobnicate'\n");
+    CHECK(run_fortu("bench " + m + " --frobnicate").out == "fortu: error: unknown option '--frobnicate'\nsee fortu bench --help\n");
     CHECK(run_fortu("bench " + m + " --quick").out ==
           "fortu: error: 'fortu bench': --quick, --out and --examples go with --paper or --performance\n");
     CHECK(run_fortu("bench --paper " + m).out ==

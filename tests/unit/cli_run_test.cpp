@@ -40,10 +40,12 @@ TEST_CASE("usage errors exit 2 with a clear message") {
           "fortu: error: --size: 100000x100000 is 10,000,000,000 points, more than the 268,435,456 fortu allocates\n");
     CHECK(run_fortu("run " + m + " --domain nan:1").out == "fortu: error: --domain: 'nan' is not a finite number\n");
     CHECK(run_fortu("run " + m + " --domain 1:0").out == "fortu: error: --domain: range '1:0' needs MIN < MAX\n");
-    CHECK(run_fortu("run " + m + " --engine turbo").out == "fortu: error: --engine: unknown engine 'turbo' (use voxel or classic)\n");
+    CHECK(run_fortu("run " + m + " --engine turbo").out == "fortu: error: --engine: unknown engine 'turbo' (use classic, voxel, voxel-f32 or sign)\n");
     CHECK(run_fortu("run " + m + " --rsystem alpha=3").status == 2);
     CHECK(run_fortu("run " + m + " -o out.xyz").status == 2);
-    CHECK(run_fortu("run " + m + " --bogus").out == "fortu: error: unknown option '--bogus' (try 'fortu --help')\n");
+    CHECK(run_fortu("run " + m + " --bogus").out == "fortu: error: unknown option '--bogus'\nsee fortu run --help\n");
+    CHECK(run_fortu("eval " + m + " 0 0 --stats").out == "fortu: error: unknown option '--stats'\nsee fortu eval --help\n");
+    CHECK(run_fortu("run " + m + " --size").out == "fortu: error: 'fortu run': --size needs a value\n");
     CHECK(run_fortu("run").out == "fortu: error: 'fortu run' needs a MODEL file\n");
     CHECK(run_fortu("eval " + m + " 1").out == "fortu: error: 'fortu eval' needs MODEL X Y [Z]\n");
     CHECK(run_fortu("eval " + m + " 1 abc").out == "fortu: error: 'fortu eval': 'abc' is not a finite coordinate\n");
@@ -52,7 +54,7 @@ TEST_CASE("usage errors exit 2 with a clear message") {
 
 TEST_CASE("--help and golden --help list the output formats of the table") {
     const std::string help = run_fortu("--help", ".", true).out;
-    CHECK(help.find("  -o FILE                     " + output_formats_usage(30) + "\n") != std::string::npos);
+    CHECK(help.find("  -o --output FILE            " + output_formats_usage(30) + "\n") != std::string::npos);
     std::string kinds;
     for (const std::string& kind : golden_output_kinds()) kinds += (kinds.empty() ? "" : " ") + kind;
     const std::string golden_help = run_fortu("golden --help", ".", true).out;
@@ -61,6 +63,33 @@ TEST_CASE("--help and golden --help list the output formats of the table") {
         CAPTURE(format.name);
         CHECK(help.find(" ." + std::string(format.extension())) != std::string::npos);
     }
+}
+
+TEST_CASE("the option table: --opt=value, each command's --help, --version") {
+    TempDir t;
+    const std::string m = quote(t.write("disc.fortu", kDisc));
+    const auto spaced = run_fortu("run " + m + " --size 9 --engine classic", ".", true);
+    const auto joined = run_fortu("run " + m + " --size=9 --engine=classic", ".", true);
+    CHECK(spaced.status == 0);
+    CHECK(joined.out.substr(0, joined.out.find(" in ")) == spaced.out.substr(0, spaced.out.find(" in ")));
+    CHECK(joined.out.find(" 9x9 with classic in ") != std::string::npos);
+    CHECK(spaced.out.find(" 9x9 with classic in ") != std::string::npos);
+    // Negative numbers are values, not options.
+    CHECK(run_fortu("run " + m + " --domain -2:2,-1:1 --size 3", ".", true).status == 0);
+    const auto run_help = run_fortu("run --help", ".", true);
+    CHECK(run_help.status == 0);
+    CHECK(run_help.out.starts_with("usage: fortu run MODEL.fortu [options]\n"));
+    CHECK(run_help.out.find("\n  --engine NAME               the engine (default voxel):\n"
+                            "                                classic     ") != std::string::npos);
+    CHECK(run_help.out.find("\n  --stats ") != std::string::npos);
+    const auto check_help = run_fortu("check --help", ".", true);
+    CHECK(check_help.out.starts_with("usage: fortu check MODEL.fortu [options]\n"));
+    CHECK(check_help.out.find("--rsystem") != std::string::npos);
+    CHECK(check_help.out.find("--engine") == std::string::npos);
+    CHECK(run_fortu("--version", ".", true).out == "fortu 0.1.0\n");
+    CHECK(run_fortu("-V", ".", true).out == "fortu 0.1.0\n");
+    CHECK(run_fortu("repl --help", ".", true).out.starts_with("usage: fortu repl [MODEL.fortu]\n"));
+    CHECK(run_fortu("golden --help", ".", true).out.find("\n  -j --jobs N ") != std::string::npos);
 }
 
 TEST_CASE("an unreadable model is a clear error, exit 1") {
@@ -90,7 +119,7 @@ namespace {
 Field disc_field() {
     fortu::test::Compiled c = fortu::test::compile_text(kDisc);
     REQUIRE_MESSAGE(c.model, c.sink.render_all());
-    return evaluate_grid(*c.model, model_grid(*c.model, {17, 17, 1}), EngineKind::Voxel);
+    return evaluate_grid(*c.model, model_grid(*c.model, {17, 17, 1}), engine_named("voxel"));
 }
 
 /// Checks the content of `path`, written by `format`'s writer from `field`: with the

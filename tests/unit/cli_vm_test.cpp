@@ -67,4 +67,13 @@ TEST_CASE("--precision and --sign-only usage errors") {
     CHECK(mimages.status == 2);
     CHECK(mimages.out == "fortu: error: --sign-only computes no values; the M-images need them (drop one of the two)\n");
     CHECK(run_fortu("run " + vm("hi.vm") + " --precision float32 --size 32").status == 0);
+    // --sign-only is --engine sign; naming the default engine beside it stays accepted.
+    CHECK(run_fortu("run " + vm("hi.vm") + " --sign-only --engine voxel --size 8").status == 0);
+    CHECK(run_fortu("run " + vm("hi.vm") + " --sign-only --engine voxel-f32").out ==
+          "fortu: error: --sign-only runs the interval renderer; it does not combine with --engine voxel-f32\n");
+    CHECK(run_fortu("run " + vm("hi.vm") + " --engine sign --mimages m.exr").out ==
+          "fortu: error: --engine sign computes no values; the M-images need them (drop one of the two)\n");
+    CommandResult point = run_fortu("eval " + vm("hi.vm") + " 0 0 --engine sign");
+    CHECK(point.status == 2);
+    CHECK(point.out == "fortu: error: 'fortu eval': the sign engine evaluates whole grids only (use classic, voxel or voxel-f32)\n");
 }

@@ -14,7 +14,7 @@ using namespace fortu::test;
 
 namespace {
 
-double at(const Model& model, double x, double y, double z = 0, EngineKind engine = EngineKind::Voxel) {
+double at(const Model& model, double x, double y, double z = 0, const Engine& engine = engine_named("voxel")) {
     return evaluate_point(model, {x, y, z}, engine).value;
 }
 
@@ -76,7 +76,7 @@ bool is_simple(const std::vector<Point2>& polygon) {
 
 TEST_CASE("FLOZ2 is 0 on its segment and > 0 off it, beyond its ends included") {
     const Model m = compile_with_stdlib("INCLUDE 'floz.fortu'; ARGUMENT X, Y; RETURN FLOZ2(X, Y, -0.5, -0.25, 0.75, 0.5);");
-    for (EngineKind engine : {EngineKind::Voxel, EngineKind::Classic}) {
+    for (const Engine& engine : exact_engines()) {
         CHECK(at(m, -0.5, -0.25, 0, engine) == 0);
         CHECK(at(m, 0.75, 0.5, 0, engine) == 0);
         for (int k = 1; k < 16; ++k) {
@@ -107,7 +107,7 @@ TEST_CASE("FLOZ3 is 0 on its triangle and > 0 off it") {
         for (int i = 0; i < 3; ++i) q[i] = a * p[0][i] + b * p[1][i] + c * p[2][i];
         CAPTURE(a);
         CAPTURE(b);
-        for (EngineKind engine : {EngineKind::Voxel, EngineKind::Classic}) {
+        for (const Engine& engine : exact_engines()) {
             CHECK(std::fabs(at(m, q[0], q[1], q[2], engine)) < 1e-14);
             // off the plane (its normal is (-1, 0, 1))
             CHECK(at(m, q[0] + 2e-3, q[1] + 4e-3, q[2] - 2e-3, engine) > 0);
@@ -130,7 +130,7 @@ TEST_CASE("R0 contours of FLOZs keep every segment's zeros") {
             const Point2 a = polygon[i], b = polygon[(i + 1) % polygon.size()];
             for (int k = 0; k <= 8; ++k) {
                 const double t = k / 8.0;
-                for (EngineKind engine : {EngineKind::Voxel, EngineKind::Classic})
+                for (const Engine& engine : exact_engines())
                     CHECK(std::fabs(at(m, a.x + t * (b.x - a.x), a.y + t * (b.y - a.y), 0, engine)) < 1e-14);
             }
         }
@@ -170,7 +170,7 @@ TEST_CASE("the signed FLOZ contour is positive exactly inside 200 random simple 
         const std::string script = polygon_script("FLOZ_CONTOUR", polygon);
         CAPTURE(script);
         const Model m = compile_with_stdlib(script);
-        const Field field = evaluate_grid(m, grid, EngineKind::Voxel);
+        const Field field = evaluate_grid(m, grid, engine_named("voxel"));
         int wrong = 0;
         for (int row = 0; row < grid.rows(); ++row)
             for (int col = 0; col < grid.cols(); ++col) {

@@ -13,7 +13,7 @@ using fortu::test::MemorySourceLoader;
 
 namespace {
 
-double value_at_origin(const Compiled& c) { return evaluate_point(*c.model, {0, 0, 0}, EngineKind::Voxel).value; }
+double value_at_origin(const Compiled& c) { return evaluate_point(*c.model, {0, 0, 0}, engine_named("voxel")).value; }
 
 }  // namespace
 

@@ -13,8 +13,8 @@ using fortu::test::compile_text;
 using fortu::test::value_at;
 
 TEST_CASE("precedence facts of spec §3 hold in both engines") {
-    for (EngineKind engine : {EngineKind::Voxel, EngineKind::Classic}) {
-        CAPTURE(engine_name(engine));
+    for (const Engine& engine : exact_engines()) {
+        CAPTURE(engine.name());
         CHECK(value_at("ARGUMENT X; RETURN -2^2;", 0, 0, 0, engine) == -4);
         CHECK(value_at("ARGUMENT X; RETURN 2^3^2;", 0, 0, 0, engine) == 512);
         CHECK(value_at("ARGUMENT X; RETURN 2^-2;", 0, 0, 0, engine) == 0.25);
@@ -41,7 +41,7 @@ TEST_CASE("the 3x3 grid of spec §2: RECTANGLE(-1,-1,1,1) RECTBMP(3,3), y+x") {
     g.dims = 2;
     g.x = {c.model->ranges[0]->min, c.model->ranges[0]->max, (*c.model->raster)[0]};
     g.y = {c.model->ranges[1]->min, c.model->ranges[1]->max, (*c.model->raster)[1]};
-    for (EngineKind engine : {EngineKind::Voxel, EngineKind::Classic}) {
+    for (const Engine& engine : exact_engines()) {
         Field f = evaluate_grid(*c.model, g, engine);
         CHECK(f.values == std::vector<double>{0, 1, 2, -1, 0, 1, -2, -1, 0});
     }
@@ -150,7 +150,7 @@ TEST_CASE("the command line's R-system wins over RSYSTEM in the script") {
     options.rsystem = RSystem{1.0};
     auto c = compile_text("ARGUMENT X, Y; RSYSTEM R0; RETURN X & Y;", options);
     REQUIRE(c.model);
-    CHECK(evaluate_point(*c.model, {3, 4, 0}, EngineKind::Voxel).value == 3);
+    CHECK(evaluate_point(*c.model, {3, 4, 0}, engine_named("voxel")).value == 3);
     CHECK(parse_rsystem("alpha=0.5")->alpha == 0.5);
     CHECK(parse_rsystem("MINMAX")->alpha == 1.0);
     CHECK_FALSE(parse_rsystem("alpha=-1"));
@@ -173,8 +173,8 @@ TEST_CASE("exact gradients through dual numbers agree between engines") {
     const char* text = "ARGUMENT X, Y;\nVARIABLE A = 1 - X^2 - Y^2;\nVARIABLE B = X - 0.2*Y;\nRETURN (A & B) | SIN(X*Y);\n";
     auto c = compile_text(text);
     REQUIRE(c.model);
-    PointValue v = evaluate_point(*c.model, {0.3, -0.4, 0}, EngineKind::Voxel);
-    PointValue k = evaluate_point(*c.model, {0.3, -0.4, 0}, EngineKind::Classic);
+    PointValue v = evaluate_point(*c.model, {0.3, -0.4, 0}, engine_named("voxel"));
+    PointValue k = evaluate_point(*c.model, {0.3, -0.4, 0}, engine_named("classic"));
     CHECK(v.value == k.value);
     CHECK(v.gradient == k.gradient);
     const double h = 1e-6;
@@ -182,8 +182,8 @@ TEST_CASE("exact gradients through dual numbers agree between engines") {
         std::array<double, 3> p{0.3, -0.4, 0}, q = p;
         p[axis] += h;
         q[axis] -= h;
-        const double fd = (evaluate_point(*c.model, p, EngineKind::Voxel).value -
-                           evaluate_point(*c.model, q, EngineKind::Voxel).value) / (2 * h);
+        const double fd = (evaluate_point(*c.model, p, engine_named("voxel")).value -
+                           evaluate_point(*c.model, q, engine_named("voxel")).value) / (2 * h);
         CHECK(v.gradient[axis] == doctest::Approx(fd).epsilon(1e-6));
     }
 }
@@ -194,7 +194,7 @@ TEST_CASE("invalid points are values, not errors") {
     Grid g;
     g.x = {-1, 1, 3};
     g.y = {-1, 1, 3};
-    for (EngineKind engine : {EngineKind::Voxel, EngineKind::Classic}) {
+    for (const Engine& engine : exact_engines()) {
         Field f = evaluate_grid(*c.model, g, engine);
         CHECK(f.invalid_count() == 3);
     }
@@ -214,7 +214,7 @@ TEST_CASE("user functions, arrays and FOR loops lower to the same IR") {
         "RETURN W;\n";
     auto c = compile_text(text);
     REQUIRE_MESSAGE(c.model, c.sink.render_all());
-    for (EngineKind engine : {EngineKind::Voxel, EngineKind::Classic}) {
+    for (const Engine& engine : exact_engines()) {
         CHECK(evaluate_point(*c.model, {0.5, 0, 0}, engine).value == doctest::Approx(0).epsilon(1e-12));
         CHECK(evaluate_point(*c.model, {0.5, 0.5, 0}, engine).value == doctest::Approx(0).epsilon(1e-12));
         CHECK(evaluate_point(*c.model, {0.7, 0.2, 0}, engine).value > 0);

@@ -51,7 +51,7 @@ TEST_CASE("all ranok-scripts compile, run with voxel, and classic agrees") {
         CHECK(sink.error_count() == 0);
 
         const Grid grid = small_grid(*model);
-        const Field voxel = evaluate_grid(*model, grid, EngineKind::Voxel);
+        const Field voxel = evaluate_grid(*model, grid, engine_named("voxel"));
         CHECK(voxel.values.size() == grid.points());
         CHECK(voxel.invalid_count() < grid.points());  // some finite values in the default box
 
@@ -63,13 +63,13 @@ TEST_CASE("all ranok-scripts compile, run with voxel, and classic agrees") {
             const int row = static_cast<int>((1 - t) * (grid.rows() - 1));
             const int slice = static_cast<int>(t * (grid.slices() - 1));
             const std::array<double, 3> p{grid.x_at(col), grid.y_at(row), grid.z_at(slice)};
-            const double classic = evaluate_point(*model, p, EngineKind::Classic).value;
+            const double classic = evaluate_point(*model, p, engine_named("classic")).value;
             const double stored = voxel.values[grid.index(col, row, slice)];
             CHECK_MESSAGE(agree(classic, stored), "classic ", classic, " voxel ", stored);
-            CHECK(agree(evaluate_point(*model, p, EngineKind::Voxel).value, stored));
+            CHECK(agree(evaluate_point(*model, p, engine_named("voxel")).value, stored));
         }
         if (per_point * double(grid.points()) <= 3e8) {
-            const Field classic = evaluate_grid(*model, grid, EngineKind::Classic);
+            const Field classic = evaluate_grid(*model, grid, engine_named("classic"));
             std::size_t disagreements = 0;
             for (std::size_t i = 0; i < grid.points(); ++i) disagreements += !agree(classic.values[i], voxel.values[i]);
             CHECK(disagreements == 0);

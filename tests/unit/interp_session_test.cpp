@@ -11,7 +11,7 @@ using Kind = SubmitResult::Kind;
 
 namespace {
 
-double value_at_origin(const Session& s) { return evaluate_point(s.model(), {0.0, 0.0, 0.0}, EngineKind::Voxel).value; }
+double value_at_origin(const Session& s) { return evaluate_point(s.model(), {0.0, 0.0, 0.0}, engine_named("voxel")).value; }
 
 }  // namespace
 
@@ -59,7 +59,7 @@ TEST_CASE("a bare expression is evaluated against the session's definitions") {
     s.submit("ARGUMENT X, Y\nCONSTANT R = 0.5\nRETURN R", "<input>");
     SubmitResult r = s.submit("R * 4 + X", "<input>");
     REQUIRE(r.kind == Kind::Expression);
-    CHECK(evaluate_point(*r.model, {1.0, 0.0, 0.0}, EngineKind::Classic).value == 3);
+    CHECK(evaluate_point(*r.model, {1.0, 0.0, 0.0}, engine_named("classic")).value == 3);
     r = s.submit("R * W", "<input>");
     CHECK(r.kind == Kind::Error);
     CHECK(r.diagnostics == "<input>:1:5: error: unknown name 'W'\nR * W\n    ^\n");
@@ -72,25 +72,25 @@ TEST_CASE("grid values are reused when the model's DAG and the grid are unchange
     s.set_size({5});
     const Grid grid = s.grid();
     EvalReport report;
-    const Field first = s.evaluate(grid, EngineKind::Voxel, {}, report);
+    const Field first = s.evaluate(grid, engine_named("voxel"), {}, report);
     CHECK_FALSE(report.reused);
     CHECK(report.computed_operations == report.operations);
     // An unrelated definition does not change the model's DAG: nothing is evaluated.
     s.submit("CONSTANT UNUSED = 7", "<input>");
-    CHECK(s.evaluate(grid, EngineKind::Classic, {}, report).values == first.values);
+    CHECK(s.evaluate(grid, engine_named("classic"), {}, report).values == first.values);
     CHECK(report.reused);
     CHECK(report.computed_operations == 0);
     s.submit("R = 0.75", "<input>");
-    const Field second = s.evaluate(grid, EngineKind::Voxel, {}, report);
+    const Field second = s.evaluate(grid, engine_named("voxel"), {}, report);
     CHECK_FALSE(report.reused);
     CHECK(second.values[12] == 0.75);
     // Changed back: the earlier values are still kept.
     s.submit("R = 0.5", "<input>");
-    CHECK(s.evaluate(grid, EngineKind::Voxel, {}, report).values == first.values);
+    CHECK(s.evaluate(grid, engine_named("voxel"), {}, report).values == first.values);
     CHECK(report.reused);
     // Another grid is another set of values.
     s.set_size({6});
-    s.evaluate(s.grid(), EngineKind::Voxel, {}, report);
+    s.evaluate(s.grid(), engine_named("voxel"), {}, report);
     CHECK_FALSE(report.reused);
 }
 
@@ -108,33 +108,33 @@ TEST_CASE("after a change only what depends on it is computed; the rest is read 
         s.submit("R = 1", "<input>");
         const Grid grid = s.grid();
         EvalReport report;
-        s.evaluate(grid, EngineKind::Voxel, {}, report);
+        s.evaluate(grid, engine_named("voxel"), {}, report);
         CHECK(report.computed_operations == report.operations);
         CHECK(report.reused_definitions.empty());
         CHECK(report.kept_definitions == 2);   // D and W (S is the model: kept as such)
 
         // A new radius: D and W are read, only R - D and the & are computed.
         s.submit("R = 0.6", "<input>");
-        const Field incremental = s.evaluate(grid, EngineKind::Voxel, {}, report);
+        const Field incremental = s.evaluate(grid, engine_named("voxel"), {}, report);
         CHECK(report.computed_operations == 2);
         CHECK(report.reused_definitions == std::vector<std::string>{"D", "W"});
         CHECK(report.kept_definitions == 0);
-        CHECK(incremental.values == evaluate_grid(s.model(), grid, EngineKind::Voxel).values);
-        CHECK(incremental.values == evaluate_grid(s.model(), grid, EngineKind::Classic).values);
+        CHECK(incremental.values == evaluate_grid(s.model(), grid, engine_named("voxel")).values);
+        CHECK(incremental.values == evaluate_grid(s.model(), grid, engine_named("classic")).values);
 
         // A new D: W is still read; D is computed again, and kept.
         s.submit("D = SQRT(X*X + Y*Y) - 0.2 * COS(3 * X)", "<input>");
-        const Field redefined = s.evaluate(grid, EngineKind::Voxel, {}, report);
+        const Field redefined = s.evaluate(grid, engine_named("voxel"), {}, report);
         CHECK(report.reused_definitions == std::vector<std::string>{"W"});
         CHECK(report.kept_definitions == 1);
         CHECK(report.computed_operations < report.operations);
-        CHECK(redefined.values == evaluate_grid(s.model(), grid, EngineKind::Classic).values);
+        CHECK(redefined.values == evaluate_grid(s.model(), grid, engine_named("classic")).values);
         s.submit("D = SQRT(X*X + Y*Y)", "<input>");
     }
     // The classic engine saves nothing: it computes everything, reads nothing.
     s.submit("R = 0.7", "<input>");
     EvalReport report;
-    s.evaluate(s.grid(), EngineKind::Classic, {}, report);
+    s.evaluate(s.grid(), engine_named("classic"), {}, report);
     CHECK(report.computed_operations == report.operations);
     CHECK(report.reused_definitions.empty());
 }
@@ -154,10 +154,10 @@ TEST_CASE("a FOR loop's redefinitions are one kept cell, not one per step") {
              "VARIABLE E = D & (0.5 - ABS(Y))\nRETURN E", "<input>");
     s.set_size({70});
     EvalReport report;
-    s.evaluate(s.grid(), EngineKind::Voxel, {}, report);
+    s.evaluate(s.grid(), engine_named("voxel"), {}, report);
     CHECK(report.kept_definitions == 1);   // the last D
     s.submit("E = D & (0.4 - ABS(Y))", "<input>");
-    s.evaluate(s.grid(), EngineKind::Voxel, {}, report);
+    s.evaluate(s.grid(), engine_named("voxel"), {}, report);
     CHECK(report.reused_definitions == std::vector<std::string>{"D"});
     CHECK(report.computed_operations == 3);   // ABS(Y), 0.4 - ABS(Y) and the &: nothing of D
 }
@@ -168,11 +168,11 @@ TEST_CASE("a kept definition under another kept one is not read, nor reported") 
              "<input>");
     s.set_size({70});
     EvalReport report;
-    s.evaluate(s.grid(), EngineKind::Voxel, {}, report);
+    s.evaluate(s.grid(), engine_named("voxel"), {}, report);
     CHECK(report.kept_definitions == 2);
     s.submit("R = 2", "<input>");
-    const Field f = s.evaluate(s.grid(), EngineKind::Voxel, {}, report);
+    const Field f = s.evaluate(s.grid(), engine_named("voxel"), {}, report);
     CHECK(report.reused_definitions == std::vector<std::string>{"W"});
     CHECK(report.computed_operations == 1);
-    CHECK(f.values == evaluate_grid(s.model(), s.grid(), EngineKind::Classic).values);
+    CHECK(f.values == evaluate_grid(s.model(), s.grid(), engine_named("classic")).values);
 }

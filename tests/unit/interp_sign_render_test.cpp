@@ -39,7 +39,7 @@ std::optional<Model> load(const std::filesystem::path& path, std::string& errors
 /// documented exception in sign_render.hpp).
 std::size_t sign_mismatches(const Model& model, const Grid& grid, SignRenderStats* stats = nullptr,
                             bool except_rounded_zero = false) {
-    const Field full = evaluate_grid(model, grid, EngineKind::Voxel);
+    const Field full = evaluate_grid(model, grid, engine_named("voxel"));
     const Field sign = sign_render(model.graph, model.root, grid, {}, stats);
     std::size_t bad = 0;
     for (std::size_t i = 0; i < full.values.size(); ++i) {

@@ -49,7 +49,7 @@ TEST_CASE("the five-sided polygon: five corners; (-7, -3), where R < 0, is rejec
     const ir::NodeId k = singular_criterion(*c.model);
     CHECK(PointEvaluator(c.model->graph, k)({-7, -3, 0}).value == doctest::Approx(0).epsilon(1e-12));
     CHECK(PointEvaluator(c.model->graph, k)({1, 1, 0}).value > 0);
-    CHECK(evaluate_point(*c.model, {-7, -3, 0}, EngineKind::Voxel).value < 0);
+    CHECK(evaluate_point(*c.model, {-7, -3, 0}, engine_named("voxel")).value < 0);
 }
 
 TEST_CASE("the same corners whatever the search grid") {

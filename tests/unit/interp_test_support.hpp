@@ -27,7 +27,7 @@ inline Compiled compile_text(const std::string& text, const CompileOptions& opti
 
 /// The value of a model at a point with the given engine (the model must compile).
 inline double value_at(const std::string& text, double x = 0, double y = 0, double z = 0,
-                       EngineKind engine = EngineKind::Voxel) {
+                       const Engine& engine = engine_named("voxel")) {
     Compiled c = compile_text(text);
     if (!c.model) throw std::runtime_error(c.sink.render_all());
     return evaluate_point(*c.model, {x, y, z}, engine).value;

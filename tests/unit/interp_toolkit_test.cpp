@@ -27,7 +27,7 @@ Model compile_example(const std::string& name) {
     return compile_with_stdlib(read_file(path), path.string());
 }
 
-double at(const Model& model, double x, double y, double z = 0, EngineKind engine = EngineKind::Voxel) {
+double at(const Model& model, double x, double y, double z = 0, const Engine& engine = engine_named("voxel")) {
     return evaluate_point(model, {x, y, z}, engine).value;
 }
 
@@ -66,7 +66,7 @@ TEST_CASE("every example runs in both engines with equal values") {
         CAPTURE(name);
         const Model m = compile_example(name);
         const Grid grid = example_grid(m, m.dims() == 3 ? 12 : 32);
-        const Field voxel = evaluate_grid(m, grid, EngineKind::Voxel);
+        const Field voxel = evaluate_grid(m, grid, engine_named("voxel"));
         std::size_t positive = 0, negative = 0;
         for (double v : voxel.values) (v > 0 ? positive : negative) += v != 0;
         CHECK(voxel.invalid_count() == 0);
@@ -74,7 +74,7 @@ TEST_CASE("every example runs in both engines with equal values") {
         CHECK(negative > 0);
         const double per_point = classic_operations_per_point(m.graph, m.root);
         if (per_point * double(grid.points()) <= 2e8) {
-            const Field classic = evaluate_grid(m, grid, EngineKind::Classic);
+            const Field classic = evaluate_grid(m, grid, engine_named("classic"));
             std::size_t different = 0;
             for (std::size_t i = 0; i < grid.points(); ++i) different += classic.values[i] != voxel.values[i];
             CHECK(different == 0);
@@ -86,8 +86,8 @@ TEST_CASE("every example runs in both engines with equal values") {
                 const int row = static_cast<int>((1 - t) * (grid.rows() - 1));
                 const int slice = static_cast<int>(t * (grid.slices() - 1));
                 const std::array<double, 3> p{grid.x_at(col), grid.y_at(row), grid.z_at(slice)};
-                CHECK(evaluate_point(m, p, EngineKind::Classic).value == voxel.values[grid.index(col, row, slice)]);
-                CHECK(evaluate_point(m, p, EngineKind::Voxel).value == voxel.values[grid.index(col, row, slice)]);
+                CHECK(evaluate_point(m, p, engine_named("classic")).value == voxel.values[grid.index(col, row, slice)]);
+                CHECK(evaluate_point(m, p, engine_named("voxel")).value == voxel.values[grid.index(col, row, slice)]);
             }
             at_points.insert(name);
         } else {
@@ -105,8 +105,8 @@ TEST_CASE("S1 Fig. 3a: formula (3) and the FLOZ-construction have the same sign 
     const Grid grid = example_grid(formula, 800);
     REQUIRE(grid.x.min == -5);
     REQUIRE(grid.y.max == 5);
-    const Field a = evaluate_grid(formula, grid, EngineKind::Voxel);
-    const Field b = evaluate_grid(floz, grid, EngineKind::Voxel);
+    const Field a = evaluate_grid(formula, grid, engine_named("voxel"));
+    const Field b = evaluate_grid(floz, grid, engine_named("voxel"));
     const double step = std::max(grid.x.step(), grid.y.step());
     std::size_t judged = 0, different = 0, outside_polygon_test = 0;
     for (int row = 0; row < grid.rows(); ++row)
@@ -145,7 +145,7 @@ TEST_CASE("a 1000-step FOR loop unrolls into a chain of 1000 R-operations") {
 
 TEST_CASE("rfunc: the R-systems as functions agree with & and | under RSYSTEM") {
     const std::string head = "INCLUDE 'rfunc.fortu'; ARGUMENT X, Y; ";
-    for (EngineKind engine : {EngineKind::Voxel, EngineKind::Classic}) {
+    for (const Engine& engine : exact_engines()) {
         const Model r0 = compile_with_stdlib(head + "RETURN R0_AND(X, Y) - (X & Y) + 10 * (R0_OR(X, Y) - (X | Y));");
         CHECK(at(r0, 0.3, -0.7, 0, engine) == 0);
         const Model ra = compile_with_stdlib(head + "RSYSTEM ALPHA = 0.5; RETURN RA_AND(X, Y, 0.5) - (X & Y);");
@@ -181,13 +181,13 @@ TEST_CASE("perturb: analytic MAX(Q, 0)^K, K = 3 by default") {
     const std::string head = "INCLUDE 'perturb.fortu'; ARGUMENT X, Y; ";
     const Model k3 = compile_with_stdlib(head + "RETURN PERTURB(-Y, 1 - X^2 - Y^2);");
     const Model k2 = compile_with_stdlib(head + "RETURN PERTURB_K(-Y, 1 - X^2 - Y^2, 2);");
-    for (EngineKind engine : {EngineKind::Voxel, EngineKind::Classic}) {
+    for (const Engine& engine : exact_engines()) {
         CHECK(at(k3, 0.5, 0.25, 0, engine) == doctest::Approx(-0.25 + std::pow(1 - 0.25 - 0.0625, 3)));
         CHECK(at(k2, 0.5, 0.25, 0, engine) == doctest::Approx(-0.25 + std::pow(1 - 0.25 - 0.0625, 2)));
         CHECK(at(k3, 2, 0.25, 0, engine) == -0.25);  // Q < 0: the base alone
     }
     // C² join at Q = 0 for K = 3: the value's gradient is continuous there (the bump adds 0)
-    const PointValue edge = evaluate_point(k3, {1, 0, 0}, EngineKind::Voxel);
+    const PointValue edge = evaluate_point(k3, {1, 0, 0}, engine_named("voxel"));
     CHECK(edge.gradient[0] == 0);
 }
 

@@ -58,9 +58,9 @@ TEST_CASE("quarter.vm: values are the negated .vm result") {
                              "r2 add x2 y2\nf const 0.5\ncircle sub r2 f\nout max mxy circle\n");
     REQUIRE_MESSAGE(r.model, r.sink.render_all());
     // At (-0.5, -0.25): max(x, y) = -0.25, r² - 0.5 = -0.1875; max = -0.1875; negated 0.1875.
-    CHECK(evaluate_point(*r.model, {-0.5, -0.25, 0}, EngineKind::Voxel).value == 0.1875);
-    CHECK(evaluate_point(*r.model, {-0.5, -0.25, 0}, EngineKind::Classic).value == 0.1875);
-    CHECK(evaluate_point(*r.model, {0.5, 0.5, 0}, EngineKind::Voxel).value == -0.5);
+    CHECK(evaluate_point(*r.model, {-0.5, -0.25, 0}, engine_named("voxel")).value == 0.1875);
+    CHECK(evaluate_point(*r.model, {-0.5, -0.25, 0}, engine_named("classic")).value == 0.1875);
+    CHECK(evaluate_point(*r.model, {0.5, 0.5, 0}, engine_named("voxel")).value == -0.5);
 }
 
 TEST_CASE("every .vm operation has the format's meaning") {
@@ -72,7 +72,7 @@ TEST_CASE("every .vm operation has the format's meaning") {
     const double x = 0.3, y = -0.7, z = 0.4;
     const double expected = -(((std::exp(x / y) * std::sin(x)) - std::min(std::cos(y), std::fabs(std::log(z))) +
                                -std::sqrt(z)) * z);
-    CHECK(evaluate_point(*r.model, {x, y, z}, EngineKind::Voxel).value == expected);
+    CHECK(evaluate_point(*r.model, {x, y, z}, engine_named("voxel")).value == expected);
 }
 
 TEST_CASE("malformed .vm files: located diagnostics") {
@@ -129,7 +129,7 @@ TEST_CASE("the R0 formula a + b - sqrt(a² + b²) becomes an R-conjunction with 
     CHECK(r.model->graph.node(neg.args[0]).op == ir::Op::RAnd);
     CHECK(r.model->graph.node(neg.args[0]).imm == 0.0);
     const double x = 0.3, y = -0.7;
-    CHECK(evaluate_point(*r.model, {x, y, 0}, EngineKind::Voxel).value == -((x + y) - std::sqrt(x * x + y * y)));
+    CHECK(evaluate_point(*r.model, {x, y, 0}, engine_named("voxel")).value == -((x + y) - std::sqrt(x * x + y * y)));
     // With other operands it stays arithmetic.
     Imported plain = import_text("x var-x\ny var-y\ns add x y\na2 square x\nb2 square x\nq add a2 b2\n"
                                  "r sqrt q\ng sub s r\n");

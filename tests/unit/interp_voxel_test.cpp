@@ -6,6 +6,7 @@
 #include "interp/hoist.hpp"
 #include "interp/tape.hpp"
 #include "interp/vm_import.hpp"
+#include "interp/voxel_engine.hpp"
 
 #include <doctest/doctest.h>
 
@@ -42,8 +43,8 @@ TEST_CASE("float64 voxel values equal the classic engine's on the .vm models") {
         CAPTURE(name);
         const Model model = load_vm(name);
         const Grid grid = square_grid(model.dims(), model.dims() == 3 ? 12 : 37);
-        const Field voxel = evaluate_grid(model, grid, EngineKind::Voxel);
-        const Field classic = evaluate_grid(model, grid, EngineKind::Classic);
+        const Field voxel = evaluate_grid(model, grid, engine_named("voxel"));
+        const Field classic = evaluate_grid(model, grid, engine_named("classic"));
         for (std::size_t i = 0; i < voxel.values.size(); ++i) CHECK(voxel.values[i] == classic.values[i]);
     }
 }
@@ -55,8 +56,8 @@ TEST_CASE("thread counts and partial tiles do not change values") {
     one.threads = 1;
     EvalOptions two;
     two.threads = 2;
-    const Field a = evaluate_grid(model, grid, EngineKind::Voxel, one);
-    const Field b = evaluate_grid(model, grid, EngineKind::Voxel, two);
+    const Field a = evaluate_grid(model, grid, engine_named("voxel"), one);
+    const Field b = evaluate_grid(model, grid, engine_named("voxel"), two);
     CHECK(a.values == b.values);
     for (double v : a.values) CHECK(std::isfinite(v));
 }
@@ -67,10 +68,8 @@ TEST_CASE("float32 stays within 1e-5 of the field's scale on the .vm models") {
         CAPTURE(name);
         const Model model = load_vm(name.c_str());
         const Grid grid = square_grid(model.dims(), model.dims() == 3 ? 20 : 101);
-        EvalOptions f32;
-        f32.precision = Precision::Float32;
-        const Field exact = evaluate_grid(model, grid, EngineKind::Voxel);
-        const Field fast = evaluate_grid(model, grid, EngineKind::Voxel, f32);
+        const Field exact = evaluate_grid(model, grid, engine_named("voxel"));
+        const Field fast = evaluate_grid(model, grid, engine_named("voxel-f32"));
         double scale = 0;
         for (double v : exact.values) scale = std::max(scale, std::fabs(v));
         double worst = 0;
@@ -85,10 +84,8 @@ TEST_CASE("float32 stays within 1e-5 of the field's scale on the .vm models") {
 TEST_CASE("float32 beyond its range: bear.vm differs only at 6 corner points of 20³") {
     const Model model = load_vm("bear.vm");
     const Grid grid = square_grid(3, 20);
-    EvalOptions f32;
-    f32.precision = Precision::Float32;
-    const Field exact = evaluate_grid(model, grid, EngineKind::Voxel);
-    const Field fast = evaluate_grid(model, grid, EngineKind::Voxel, f32);
+    const Field exact = evaluate_grid(model, grid, engine_named("voxel"));
+    const Field fast = evaluate_grid(model, grid, engine_named("voxel-f32"));
     int beyond = 0;
     for (std::size_t i = 0; i < exact.values.size(); ++i)
         beyond += std::fabs(exact.values[i] - fast.values[i]) > 1e-5 * 3.1425574031298424;
@@ -107,14 +104,12 @@ TEST_CASE("hoisting X-only and row-only sub-expressions changes no value, in eit
         Grid grid = square_grid(c.dims, c.rows);
         grid.x.nodes = c.cols;
         for (Precision precision : {Precision::Float64, Precision::Float32}) {
-            EvalOptions hoisted, plain;
-            hoisted.precision = plain.precision = precision;
-            plain.hoist = false;
-            const Field a = evaluate_grid(model, grid, EngineKind::Voxel, hoisted);
-            const Field b = evaluate_grid(model, grid, EngineKind::Voxel, plain);
+            const VoxelEngine hoisted({.precision = precision}), plain({.precision = precision, .hoist = false});
+            const Field a = evaluate_grid(model, grid, hoisted);
+            const Field b = evaluate_grid(model, grid, plain);
             CHECK(a.values == b.values);
             if (precision == Precision::Float64)
-                CHECK(a.values == evaluate_grid(model, grid, EngineKind::Classic).values);
+                CHECK(a.values == evaluate_grid(model, grid, engine_named("classic")).values);
         }
     }
 }
@@ -151,23 +146,49 @@ TEST_CASE("known node values are read instead of computed; kept ones are written
         CAPTURE(cols);
         Grid grid = square_grid(2, 41);
         grid.x.nodes = cols;
-        const Field whole = evaluate_grid(m, grid, EngineKind::Voxel);
+        const Field whole = evaluate_grid(m, grid, engine_named("voxel"));
         std::vector<double> kept_d(grid.points()), kept_w(grid.points());
-        EvalOptions keep;
+        NodeValues keep;
         keep.keep = {{d, kept_d.data()}, {w, kept_w.data()}};
-        CHECK(evaluate_grid(m, grid, EngineKind::Voxel, keep).values == whole.values);
-        CHECK(kept_d == evaluate_grid(m.graph, d, grid, EngineKind::Voxel).values);
-        CHECK(kept_w == evaluate_grid(m.graph, w, grid, EngineKind::Voxel).values);
+        CHECK(engine_named("voxel").evaluate_grid(m.graph, m.root, grid, {}, keep).values == whole.values);
+        CHECK(kept_d == evaluate_grid(m.graph, d, grid, engine_named("voxel")).values);
+        CHECK(kept_w == evaluate_grid(m.graph, w, grid, engine_named("voxel")).values);
         // Known values that are not the node's own prove they are read: D := 0 everywhere.
         std::vector<double> zeros(grid.points(), 0.0);
-        EvalOptions known;
+        NodeValues known;
         known.known = {{d, zeros.data()}, {w, kept_w.data()}};
-        const Field with_zero_d = evaluate_grid(m, grid, EngineKind::Voxel, known);
+        const Field with_zero_d = engine_named("voxel").evaluate_grid(m.graph, m.root, grid, {}, known);
         auto expected = test::compile_text("ARGUMENT X, Y\nRETURN 0.5 & (SIN(X * 3) * COS(Y * 5))");
-        CHECK(with_zero_d.values == evaluate_grid(*expected.model, grid, EngineKind::Voxel).values);
+        CHECK(with_zero_d.values == evaluate_grid(*expected.model, grid, engine_named("voxel")).values);
     }
-    EvalOptions known;
+    NodeValues known;
     std::vector<double> values(9);
     known.known = {{d, values.data()}};
-    CHECK_THROWS_AS(evaluate_grid(m, square_grid(2, 3), EngineKind::Classic, known), std::invalid_argument);
+    CHECK_THROWS_AS(engine_named("classic").evaluate_grid(m.graph, m.root, square_grid(2, 3), {}, known),
+                    std::invalid_argument);
+    CHECK_THROWS_AS(engine_named("sign").evaluate_grid(m.graph, m.root, square_grid(2, 3), {}, known),
+                    std::invalid_argument);
+}
+
+TEST_CASE("the engine table: names, capabilities, tuning") {
+    std::vector<std::string_view> names;
+    for (const Engine* e : engine_table()) names.push_back(e->name());
+    CHECK(names == std::vector<std::string_view>{"classic", "voxel", "voxel-f32", "sign"});
+    CHECK(engine_names(", ", " or ") == "classic, voxel, voxel-f32 or sign");
+    CHECK(engine_names(", ", " or ", [](const EngineCapabilities& c) { return c.point; }) == "classic, voxel or voxel-f32");
+    std::vector<std::string_view> exact;
+    for (const Engine& e : exact_engines()) exact.push_back(e.name());
+    CHECK(exact == std::vector<std::string_view>{"classic", "voxel"});
+    CHECK(default_engine().name() == "voxel");
+    CHECK(find_engine("gpu") == nullptr);
+    CHECK_THROWS_AS(engine_named("gpu"), std::invalid_argument);
+    CHECK(engine_named("classic").capabilities().expanded_tree_cost);
+    CHECK_FALSE(engine_named("voxel").capabilities().expanded_tree_cost);
+    CHECK(engine_named("sign").capabilities().sign_only);
+    CHECK_FALSE(engine_named("sign").capabilities().point);
+    // --precision float32 tunes the voxel engine into its float32 variant; classic ignores it.
+    CHECK(engine_named("voxel").tuned({.precision = Precision::Float32})->name() == "voxel-f32");
+    CHECK(engine_named("classic").tuned({.precision = Precision::Float32})->name() == "classic");
+    const Model model = load_vm("hi.vm");
+    CHECK_THROWS_AS(evaluate_point(model, {0, 0, 0}, engine_named("sign")), std::logic_error);
 }

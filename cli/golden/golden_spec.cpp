@@ -1,8 +1,8 @@
 // cli/golden_spec.cpp — see golden_spec.hpp. Directives are parsed strictly: a typo in one
 // (`expect-valeu`) fails the test rather than silently testing less.
-#include "cli/golden_spec.hpp"
+#include "cli/golden/golden_spec.hpp"
 
-#include "cli/cli_options.hpp"
+#include "cli/option_table.hpp"
 #include "runtime/output_formats.hpp"
 
 #include <fmt/format.h>
@@ -267,6 +267,24 @@ GoldenTest script_test(const fs::path& script) {
 
 }  // namespace
 
+std::vector<const Engine*> golden_both_engines() {
+    std::vector<const Engine*> engines{&default_engine()};
+    for (const Engine& engine : exact_engines())
+        if (&engine != &default_engine()) engines.push_back(&engine);
+    return engines;
+}
+
+std::optional<std::vector<const Engine*>> parse_golden_engines(const std::string& name) {
+    if (name == "both") return golden_both_engines();
+    const Engine* engine = find_engine(name);
+    if (!engine || !engine->capabilities().exact) return std::nullopt;
+    return std::vector{engine};
+}
+
+std::string golden_engine_choices(const char* last_separator) {
+    return "both, " + engine_names(", ", last_separator, [](const EngineCapabilities& can) { return can.exact; });
+}
+
 std::string apply_directive(GoldenTest& t, const std::string& directive, int line) {
     const std::string text = trim(directive);
     const std::size_t space = text.find_first_of(" \t");
@@ -274,10 +292,9 @@ std::string apply_directive(GoldenTest& t, const std::string& directive, int lin
     const std::string rest = space == std::string::npos ? "" : trim(text.substr(space));
     const std::vector<std::string> args = words(rest);
     if (keyword == "golden-engine") {
-        if (args.size() != 1) return "golden-engine wants one of both, classic, voxel";
-        if (args[0] == "both") t.engines = {EngineKind::Voxel, EngineKind::Classic};
-        else if (auto e = parse_engine(args[0])) t.engines = {*e};
-        else return fmt::format("golden-engine: '{}' is not both, classic or voxel", args[0]);
+        if (args.size() != 1) return "golden-engine wants one of " + golden_engine_choices(", ");
+        if (auto engines = parse_golden_engines(args[0])) t.engines = *engines;
+        else return fmt::format("golden-engine: '{}' is not {}", args[0], golden_engine_choices(" or "));
         t.engines_given = true;
         return "";
     }

@@ -2,9 +2,11 @@
 // the process (SIGINT, the terminal, the history file); what an input does is repl_commands.
 // On a terminal: prompts, line editing, colour. Otherwise: plain lines in, plain text out.
 #include "cli/commands.hpp"
+#include "cli/data_paths.hpp"
+#include "cli/option_table.hpp"
 #include "interp/lower.hpp"
-#include "cli/repl_commands.hpp"
-#include "cli/repl_input.hpp"
+#include "cli/repl/repl_commands.hpp"
+#include "cli/repl/repl_input.hpp"
 
 #include <atomic>
 #include <csignal>
@@ -26,8 +28,6 @@ constexpr const char* kUsage =
     "usage: fortu repl [MODEL.fortu]\n"
     "  an interactive session: type FORTU statements and :commands (:help lists them)\n";
 
-/// The installed stdlib folders, as for `fortu run` (INCLUDE search path).
-
 std::pair<int, int> terminal_size() {
     winsize ws{};
     if (ioctl(STDOUT_FILENO, TIOCGWINSZ, &ws) == 0 && ws.ws_col > 0 && ws.ws_row > 0)
@@ -43,13 +43,15 @@ bool colour_wanted() {
 }  // namespace
 
 int run_repl_command(const std::vector<std::string>& args) {
-    std::string model_path;
-    for (const std::string& a : args) {
-        if (a == "-h" || a == "--help") { std::cout << kUsage; return 0; }
-        if (!a.empty() && a[0] == '-') { std::cerr << "fortu: error: 'fortu repl': unknown option '" << a << "'\n" << kUsage; return 2; }
-        if (!model_path.empty()) { std::cerr << "fortu: error: 'fortu repl' takes one model at most\n" << kUsage; return 2; }
-        model_path = a;
+    std::vector<std::string> models;
+    OptionTable table("repl", kUsage);
+    table.positionals(models);
+    if (!table.parse(args)) { std::cout << table.help(); return 0; }
+    if (models.size() > 1) {
+        const std::string usage = kUsage;
+        throw UsageError("'fortu repl' takes one model at most\n" + usage.substr(0, usage.size() - 1));
     }
+    const std::string model_path = models.empty() ? "" : models[0];
     const bool interactive = isatty(STDIN_FILENO);
     if (interactive) {
         // Ctrl-C stops an evaluation (EvalOptions::cancel) instead of the process. SA_RESTART
@@ -61,7 +63,7 @@ int run_repl_command(const std::vector<std::string>& args) {
         sigaction(SIGINT, &action, nullptr);
     }
 
-    Session session(installed_stdlib_dirs());
+    Session session(stdlib_dirs());
     Repl repl(session, ReplIo{std::cout, std::cerr, colour_wanted(), terminal_size, &g_interrupted});
     LineReader reader(interactive, interactive ? default_history_path() : std::string());
     if (interactive) std::cout << "fortu repl: type FORTU statements or :help; Ctrl-D quits\n";

@@ -2,7 +2,7 @@
 // (fv-method.md §4) end to end, written as a Markdown report, a JSON document and SVG plots.
 #pragma once
 
-#include "cli/bench_measure.hpp"
+#include "cli/bench/bench_measure.hpp"
 
 #include <string>
 

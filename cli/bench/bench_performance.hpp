@@ -3,7 +3,7 @@
 // in one command, each row beside its target and the reference figures.
 #pragma once
 
-#include "cli/bench_measure.hpp"
+#include "cli/bench/bench_measure.hpp"
 
 #include <string>
 
@@ -12,14 +12,13 @@ namespace fortu {
 struct PerformanceOptions {
     bool quick = false;                        ///< small grids: a smoke run, not comparable with the targets
     std::string out_dir = "bench-results/perf";
-    std::string data_dir;       ///< the folder with prospero.vm; empty: $FORTU_SHARED_DIR/data, else ../shared/data
-    std::string examples_dir;   ///< where s1_fig3a_floz.fortu is; empty: examples/ near the binary
+    std::string data_dir;       ///< the folder with prospero.vm; empty: shared_data_dir() (data_paths.hpp)
+    std::string examples_dir;   ///< where s1_fig3a_floz.fortu is; empty: examples_dir() (data_paths.hpp)
     MeasureOptions measure;     ///< repeat: the median is over this many runs
 };
 
 /// The folder prospero.vm is looked for in: `given`, else $FORTU_SHARED_DIR/data (as the
-/// golden tests use it), else ../shared/data beside the source tree, else the copy vendored in
-/// tests/shared/data, else ../shared/data from the working folder.
+/// golden tests use it), else the shared data folder configured at build time (data_paths.hpp).
 std::string shared_data_folder(const std::string& given);
 
 /// Runs the suite, prints the Markdown table and writes results.md and results.json to

@@ -3,9 +3,9 @@
 // and, for the growth experiments, a plot with least-squares fits: E3 fits ln t = a + n·ln g
 // for classic (the expanded tree doubles with each R0 conjunction, g ≈ 2) and t = a + b·n for
 // voxel (one FLOZ and one conjunction more per step); E4 fits t = a + b·points for both.
-#include "cli/bench_paper.hpp"
+#include "cli/bench/bench_paper.hpp"
 
-#include "cli/bench_report.hpp"
+#include "cli/bench/bench_report.hpp"
 #include "interp/classic_cost.hpp"
 #include "interp/ir_print.hpp"
 #include "runtime/atomic_file.hpp"
@@ -53,18 +53,18 @@ std::optional<Model> load_example(Context& ctx, const std::string& file) {
     return model;
 }
 
-BenchCell run_cell(Context& ctx, const std::string& name, const Model& model, const Grid& grid, BenchEngine engine,
+BenchCell run_cell(Context& ctx, const std::string& name, const Model& model, const Grid& grid, const Engine& engine,
                    const MeasureOptions& measure) {
     // The whole run must end in time on a loaded machine: a classic cell whose estimate
     // (operations × the classic speed measured so far) would pass the deadline is not run.
     const double operations = classic_operations_per_point(model.graph, model.root) * double(grid.points());
-    if (engine == BenchEngine::Classic && operations <= measure.budget) {
+    if (engine.capabilities().expanded_tree_cost && operations <= measure.budget) {
         const double estimate = ctx.rate.seconds_per_operation(measure.threads) * operations;
         const double left = ctx.deadline - ctx.clock.seconds();
         if (estimate > left) {
             BenchCell c;
             c.model = name;
-            c.engine = engine;
+            c.engine = &engine;
             c.grid = grid;
             c.operations_per_point = operations / double(grid.points());
             c.skipped = true;
@@ -74,7 +74,7 @@ BenchCell run_cell(Context& ctx, const std::string& name, const Model& model, co
             return c;
         }
     }
-    std::cerr << fmt::format("bench: {} {} {} ...\n", name, bench_engine_name(engine), grid_size_text(grid));
+    std::cerr << fmt::format("bench: {} {} {} ...\n", name, engine.name(), grid_size_text(grid));
     return measure_cell(name, model, grid, engine, measure, ctx.rate);
 }
 
@@ -103,10 +103,10 @@ Experiment e1_fig3a(Context& ctx) {
     // The comparison needs all four cells: the budget does not apply (E4 reuses the 800² ones).
     MeasureOptions m = ctx.options.measure;
     m.budget = std::numeric_limits<double>::infinity();
-    e.cells.push_back(run_cell(ctx, "s1_fig3a_formula.fortu", *formula, bench_grid(*formula, size), BenchEngine::Classic, m));
-    e.cells.push_back(run_cell(ctx, "s1_fig3a_floz.fortu", *floz, bench_grid(*floz, size), BenchEngine::Voxel, m));
-    e.cells.push_back(run_cell(ctx, "s1_fig3a_floz.fortu", *floz, bench_grid(*floz, size), BenchEngine::Classic, m));
-    e.cells.push_back(run_cell(ctx, "s1_fig3a_formula.fortu", *formula, bench_grid(*formula, size), BenchEngine::Voxel, m));
+    e.cells.push_back(run_cell(ctx, "s1_fig3a_formula.fortu", *formula, bench_grid(*formula, size), engine_named("classic"), m));
+    e.cells.push_back(run_cell(ctx, "s1_fig3a_floz.fortu", *floz, bench_grid(*floz, size), engine_named("voxel"), m));
+    e.cells.push_back(run_cell(ctx, "s1_fig3a_floz.fortu", *floz, bench_grid(*floz, size), engine_named("classic"), m));
+    e.cells.push_back(run_cell(ctx, "s1_fig3a_formula.fortu", *formula, bench_grid(*formula, size), engine_named("voxel"), m));
     const char* paper[] = {"17 min 29 s (1049 s)", "1 min 51 s (111 s)", "—", "—"};
     const char* what[] = {"classic, formula (3)", "voxel, FLOZ-construction", "classic, FLOZ-construction",
                           "voxel, formula (3)"};
@@ -146,8 +146,8 @@ Experiment e2_polygon(Context& ctx) {
         return e;
     }
     const Grid grid = bench_grid(*model, size);
-    e.cells.push_back(run_cell(ctx, "lrfm_polygon14.fortu", *model, grid, BenchEngine::Voxel, ctx.options.measure));
-    e.cells.push_back(run_cell(ctx, "lrfm_polygon14.fortu", *model, grid, BenchEngine::Classic, ctx.options.measure));
+    e.cells.push_back(run_cell(ctx, "lrfm_polygon14.fortu", *model, grid, engine_named("voxel"), ctx.options.measure));
+    e.cells.push_back(run_cell(ctx, "lrfm_polygon14.fortu", *model, grid, engine_named("classic"), ctx.options.measure));
     const int steps = std::max(1, r_operation_count(*model));
     const double total = e.cells[0].median, per_step = total / steps;
     e.markdown = fmt::format(
@@ -193,7 +193,7 @@ Experiment e3_steps(Context& ctx, const std::string& out_dir) {
         series.push_back({fmt::format("floz_steps_{}", i + 1), &models[i], bench_grid(models[i], size)});
     std::cerr << fmt::format("bench: floz_steps_1..{} voxel {}x{}, {} interleaved rounds ...\n", models.size(), size,
                              size, voxel.repeat);
-    const std::vector<BenchCell> voxel_cells = measure_interleaved(series, BenchEngine::Voxel, voxel);
+    const std::vector<BenchCell> voxel_cells = measure_interleaved(series, engine_named("voxel"), voxel);
     for (std::size_t i = 0; i < models.size(); ++i) {
         const int n = int(i) + 1;
         const std::string& name = series[i].name;
@@ -208,10 +208,10 @@ Experiment e3_steps(Context& ctx, const std::string& out_dir) {
         const double ops = classic_operations_per_point(model->graph, model->root);
         if (previous_seconds >= 0 && previous_seconds * ops / previous_operations > cap) stopped = true;
         if (!stopped) {
-            c = run_cell(ctx, name, *model, grid, BenchEngine::Classic, classic);
+            c = run_cell(ctx, name, *model, grid, engine_named("classic"), classic);
         } else {
             c.model = name;
-            c.engine = BenchEngine::Classic;
+            c.engine = &engine_named("classic");
             c.grid = grid;
             c.operations_per_point = ops;
             c.skipped = true;
@@ -252,7 +252,7 @@ Experiment e3_steps(Context& ctx, const std::string& out_dir) {
     for (const BenchCell& c : e.cells) {
         const double n = std::stod(c.model.substr(c.model.rfind('_') + 1));
         if (c.skipped) continue;
-        (c.engine == BenchEngine::Classic ? sc : sv).points.emplace_back(n, c.cpu_median);
+        (c.engine->capabilities().expanded_tree_cost ? sc : sv).points.emplace_back(n, c.cpu_median);
     }
     if (classic_fit)
         for (double n : n_classic) fc.points.emplace_back(n, std::exp(classic_fit->intercept + classic_fit->slope * n));
@@ -315,9 +315,9 @@ Experiment e4_resolution(Context& ctx, const std::string& out_dir, const Experim
         const Grid grid = bench_grid(*model, size);
         const BenchCell* cells[2] = {nullptr, nullptr};
         for (int k = 0; k < 2; ++k) {
-            const BenchEngine engine = k == 0 ? BenchEngine::Classic : BenchEngine::Voxel;
+            const Engine& engine = k == 0 ? engine_named("classic") : engine_named("voxel");
             for (const BenchCell& c : e1.cells)   // E1 measured these at its size: reuse them
-                if (c.model == "s1_fig3a_floz.fortu" && c.engine == engine && c.points() == grid.points() && !c.skipped)
+                if (c.model == "s1_fig3a_floz.fortu" && c.engine == &engine && c.points() == grid.points() && !c.skipped)
                     e.cells.push_back(c), cells[k] = &e.cells.back();
             if (!cells[k]) {
                 e.cells.push_back(run_cell(ctx, "s1_fig3a_floz.fortu", *model, grid, engine, m));
@@ -365,8 +365,8 @@ Experiment e5_sphere(Context& ctx) {
     std::string rows;
     for (int size : sizes) {
         const Grid grid = bench_grid(*model, size);
-        e.cells.push_back(run_cell(ctx, "floz3_sphere80.fortu", *model, grid, BenchEngine::Voxel, ctx.options.measure));
-        e.cells.push_back(run_cell(ctx, "floz3_sphere80.fortu", *model, grid, BenchEngine::Classic, ctx.options.measure));
+        e.cells.push_back(run_cell(ctx, "floz3_sphere80.fortu", *model, grid, engine_named("voxel"), ctx.options.measure));
+        e.cells.push_back(run_cell(ctx, "floz3_sphere80.fortu", *model, grid, engine_named("classic"), ctx.options.measure));
         const BenchCell& v = e.cells[e.cells.size() - 2];
         const BenchCell& c = e.cells.back();
         rows += fmt::format("| {} | {} | {} | {} | {} | {} |\n", grid_size_text(grid), format_count(grid.points()),

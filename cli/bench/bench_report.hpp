@@ -3,7 +3,7 @@
 // least-squares fits the paper experiments print.
 #pragma once
 
-#include "cli/bench_measure.hpp"
+#include "cli/bench/bench_measure.hpp"
 
 #include <optional>
 #include <string>

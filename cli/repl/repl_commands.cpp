@@ -1,7 +1,7 @@
 // cli/repl_commands.cpp — the `:commands` of `fortu repl` and the evaluation of typed FORTU.
 // Outputs follow `fortu eval` / `fortu run -o` exactly (same evaluate_point, fv_plane and
 // write_field), so what the REPL shows is what the command line gives.
-#include "cli/repl_commands.hpp"
+#include "cli/repl/repl_commands.hpp"
 
 #include "interp/classic_cost.hpp"
 #include "interp/ir_print.hpp"
@@ -21,7 +21,7 @@
 namespace fortu {
 namespace {
 
-/// The classic engine's default budget, as `fortu run` (cli_options.hpp).
+/// The classic engine's budget in the REPL (`fortu bench`'s default; `fortu run`'s is --budget).
 constexpr double kClassicBudget = 2e10;
 
 std::vector<std::string> split_words(const std::string& text) {
@@ -61,6 +61,10 @@ std::string grid_text(const Grid& g) {
 
 std::string seconds_text(double s) { return fmt::format("{:.4f} s", s); }
 
+/// The engines :engine offers: those whose values agree bit for bit (points with gradients
+/// for :eval, and what :time compares).
+bool offered(const EngineCapabilities& can) { return can.exact; }
+
 }  // namespace
 
 Repl::Repl(Session& session, ReplIo io) : session_(session), io_(std::move(io)) {}
@@ -75,7 +79,7 @@ std::string Repl::help_text() {
            "  :render FILE           write the image (" + output_extensions_text() + ") as `fortu run -o`\n"
            "  :domain [XMIN XMAX YMIN YMAX [ZMIN ZMAX] | default]   show or set the domain\n"
            "  :size [W [H [D]] | default]                          show or set the grid nodes of :render\n"
-           "  :engine [classic|voxel]  show or choose the engine\n"
+           "  :engine [" + engine_names("|", "|", offered) + "]  show or choose the engine\n"
            "  :rsystem [r0|minmax|alpha=A]  show or choose the R-system of & and |\n"
            "  :time                  time the last evaluation with both engines; say what was reused\n"
            "  :ir                    print the model's IR\n"
@@ -139,9 +143,10 @@ bool Repl::command(const std::string& line) {
     else if (name == ":domain") domain(words);
     else if (name == ":size") size(words);
     else if (name == ":engine") {
-        if (words.empty()) io_.out << fmt::format("engine: {}\n", engine_name(engine_));
-        else if (auto e = parse_engine(words[0]); e && words.size() == 1) engine_ = *e;
-        else error(fmt::format(":engine: '{}' is not classic or voxel", trim(line.substr(name.size()))));
+        const Engine* chosen = words.size() == 1 ? find_engine(words[0]) : nullptr;
+        if (words.empty()) io_.out << fmt::format("engine: {}\n", engine_->name());
+        else if (chosen && offered(chosen->capabilities())) engine_ = chosen;
+        else error(fmt::format(":engine: '{}' is not {}", trim(line.substr(name.size())), engine_names(", ", " or ", offered)));
     } else if (name == ":rsystem") {
         if (words.empty()) {
             const RSystem r = session_.rsystem().value_or(RSystem{});
@@ -174,17 +179,17 @@ void Repl::fortu_text(const std::string& text) {
     if (!r.diagnostics.empty()) { io_.out.flush(); io_.err << r.diagnostics; io_.err.flush(); }
     if (r.kind == SubmitResult::Kind::Expression) {
         const Model& m = *r.model;
-        if (engine_ == EngineKind::Classic && dag_depth(m.graph, m.root) > kClassicMaxDepth)
+        if (engine_->capabilities().expanded_tree_cost && dag_depth(m.graph, m.root) > kClassicMaxDepth)
             return error("the expression is too deep for the classic engine\nnote: use :engine voxel");
-        io_.out << fmt::format("{}\n", evaluate_point(m, probe_, engine_).value);
+        io_.out << fmt::format("{}\n", evaluate_point(m, probe_, *engine_).value);
         return;
     }
     for (const std::string& change : r.changes)
         if (change.rfind("replaced ", 0) == 0) io_.out << change << "\n";
 }
 
-std::optional<std::string> Repl::classic_refusal(double points) const {
-    if (engine_ != EngineKind::Classic) return std::nullopt;
+std::optional<std::string> Repl::classic_refusal(const Engine& engine, double points) const {
+    if (!engine.capabilities().expanded_tree_cost) return std::nullopt;
     const Model& m = session_.model();
     if (dag_depth(m.graph, m.root) > kClassicMaxDepth)
         return "the model is too deep for the classic engine's recursion\nnote: use :engine voxel";
@@ -196,11 +201,11 @@ std::optional<std::string> Repl::classic_refusal(double points) const {
 }
 
 std::optional<Field> Repl::evaluate(const Grid& grid) {
-    if (auto refusal = classic_refusal(double(grid.points()))) { error(*refusal); return std::nullopt; }
+    if (auto refusal = classic_refusal(*engine_, double(grid.points()))) { error(*refusal); return std::nullopt; }
     EvalOptions options;
     options.cancel = io_.interrupt;
     EvalReport report;
-    Field field = session_.evaluate(grid, engine_, options, report);
+    Field field = session_.evaluate(grid, *engine_, options, report);
     last_ = report;
     if (report.cancelled) {
         error("interrupted");
@@ -222,15 +227,15 @@ void Repl::eval(const std::vector<std::string>& args) {
         if (!v) return error(fmt::format(":eval: '{}' is not a finite coordinate", args[i]));
         p[i] = *v;
     }
-    if (auto refusal = classic_refusal(1.0 + m.dims())) return error(*refusal);
+    if (auto refusal = classic_refusal(*engine_, 1.0 + m.dims())) return error(*refusal);
     probe_ = p;
-    const PointValue v = evaluate_point(m, p, engine_);
+    const PointValue v = evaluate_point(m, p, *engine_);
     // The M-image normal from the forward neighbours one grid step away, as `fortu eval`.
     const Grid grid = session_.grid();
     const double h[3] = {grid.x.step() > 0 ? grid.x.step() : 1.0, grid.y.step() > 0 ? grid.y.step() : 1.0,
                          grid.z.step() > 0 ? grid.z.step() : 1.0};
     auto value_at = [&](double dx, double dy, double dz) {
-        return evaluate_point(m, {p[0] + dx, p[1] + dy, p[2] + dz}, engine_).value;
+        return evaluate_point(m, {p[0] + dx, p[1] + dy, p[2] + dz}, *engine_).value;
     };
     io_.out << fmt::format("value: {}\n", v.value);
     if (m.dims() == 3) {
@@ -346,9 +351,9 @@ void Repl::time() {
             what = "reused: the values of this model on this grid were kept, nothing was evaluated";
         else if (r.cancelled)
             what = "it was interrupted";
-        else if (r.engine == EngineKind::Classic)
-            what = fmt::format("computed all {} operations in {} (the classic engine saves nothing)",
-                               r.operations, seconds_text(r.seconds));
+        else if (!engine_named(r.engine).capabilities().known_and_kept)
+            what = fmt::format("computed all {} operations in {} (the {} engine saves nothing)",
+                               r.operations, seconds_text(r.seconds), r.engine);
         else {
             what = fmt::format("computed {} of {} operations in {}", r.computed_operations, r.operations,
                                seconds_text(r.seconds));
@@ -361,27 +366,23 @@ void Repl::time() {
                 what += fmt::format("; kept the values of {} definition{} for next time", r.kept_definitions,
                                     r.kept_definitions == 1 ? "" : "s");
         }
-        io_.out << fmt::format("last evaluation: {} engine, {} points; {}\n", engine_name(r.engine),
+        io_.out << fmt::format("last evaluation: {} engine, {} points; {}\n", r.engine,
                                grid_text(r.grid), what);
     }
     const Model& m = session_.model();
     io_.out << "the whole model, nothing reused:\n";
-    for (EngineKind kind : {EngineKind::Classic, EngineKind::Voxel}) {
-        const EngineKind saved = engine_;
-        engine_ = kind;
-        const std::optional<std::string> refusal = classic_refusal(double(grid.points()));
-        engine_ = saved;
-        if (refusal) {
-            io_.out << fmt::format("{}: not run ({})\n", engine_name(kind), refusal->substr(0, refusal->find('\n')));
+    for (const Engine& engine : exact_engines()) {
+        if (const std::optional<std::string> refusal = classic_refusal(engine, double(grid.points()))) {
+            io_.out << fmt::format("{}: not run ({})\n", engine.name(), refusal->substr(0, refusal->find('\n')));
             continue;
         }
         EvalOptions options;
         options.cancel = io_.interrupt;
         const auto start = std::chrono::steady_clock::now();
-        evaluate_grid(m, grid, kind, options);
+        evaluate_grid(m, grid, engine, options);
         const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         if (io_.interrupt && io_.interrupt->load()) return error("interrupted");
-        io_.out << fmt::format("{:8} {} points in {} ({} points/s)\n", std::string(engine_name(kind)) + ":",
+        io_.out << fmt::format("{:8} {} points in {} ({} points/s)\n", std::string(engine.name()) + ":",
                                grid_text(grid), seconds_text(s),
                                format_operations(s > 0 ? double(grid.points()) / s : 0.0));
     }

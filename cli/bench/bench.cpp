@@ -2,11 +2,11 @@
 // × size measured, printed as a table with classic/voxel ratios, optionally written as JSON,
 // CSV and an SVG plot). `--paper` hands over to bench_paper.cpp, `--performance` to
 // bench_performance.cpp.
-#include "cli/bench_measure.hpp"
-#include "cli/bench_paper.hpp"
-#include "cli/bench_performance.hpp"
-#include "cli/bench_report.hpp"
-#include "cli/cli_options.hpp"
+#include "cli/bench/bench_measure.hpp"
+#include "cli/bench/bench_paper.hpp"
+#include "cli/bench/bench_performance.hpp"
+#include "cli/bench/bench_report.hpp"
+#include "cli/option_table.hpp"
 #include "cli/commands.hpp"
 
 #include "runtime/atomic_file.hpp"
@@ -22,37 +22,28 @@
 namespace fortu {
 namespace {
 
-constexpr const char* kBenchUsage = R"(usage:
+constexpr std::string_view kBenchUsage = R"(usage:
   fortu bench MODEL... [options]   time each model x engine x size (bench/README.md)
   fortu bench --paper [--quick] [--out DIR] [--examples DIR] [--repeat N] [--threads N] [--budget OPS]
                                    the papers' experiments E1-E5: results.md, results.json, plots
   fortu bench --performance [--quick] [--data DIR] [--out DIR] [--examples DIR] [--repeat N] [--threads N]
                                    issue 5's suite (prospero.vm, 64-segment FLOZ, Fig. 3a with
                                    M-images) beside its targets: results.md, results.json
-                                   (default --out bench-results/perf, --repeat 5; --data: the
-                                   folder with prospero.vm, default $FORTU_SHARED_DIR/data,
-                                   ../shared/data or the copy in tests/shared/data)
-
-options:
-  --engines classic,voxel   what to time (default both): classic, voxel (float64),
-                            voxel-f32 (--precision float32), sign (--sign-only's renderer)
-  --mimages                 each run also computes the M-images (the FV model's components)
-                            after the evaluation; not for sign cells
-  --sizes 200,400,800       nodes per axis (N means NxN, or NxNxN for a 3D model)
-  --repeat N                timed runs per cell (default 3; a cell stops repeating after 20 s)
-  --budget OPS              classic cells above OPS operations are skipped, with their
-                            estimated time printed (default 2e10)
-  --threads N               worker threads (default: all cores)
-  --json FILE               the results as JSON (schema fortu-bench/1)
-  --csv FILE                one row per cell
-  --plot FILE.svg           median time against grid points, one line per model and engine
+                                   (default --out bench-results/perf, --repeat 5)
 )";
+
+/// One line per engine of the table, for --engines' help.
+std::string engine_lines() {
+    std::string lines;
+    for (const Engine* engine : engine_table()) lines += fmt::format("\n  {:<12}{}", engine->name(), engine->summary());
+    return lines;
+}
 
 constexpr int kMaxBenchNodes = 20000;   // per axis; the grid itself is capped by kMaxGridPoints
 
 struct BenchArgs {
     std::vector<std::string> models;
-    std::vector<BenchEngine> engines{BenchEngine::Classic, BenchEngine::Voxel};
+    std::vector<const Engine*> engines{&engine_named("classic"), &engine_named("voxel")};
     std::vector<int> sizes{200, 400, 800};
     MeasureOptions measure;
     std::string json, csv, plot;
@@ -85,67 +76,77 @@ long parse_integer(const std::string& option, const std::string& text, long lo, 
     throw UsageError(fmt::format("{}: '{}' is not an integer in {}..{}", option, text, lo, hi));
 }
 
-BenchArgs parse_bench_args(const std::vector<std::string>& args) {
+/// `fortu bench`'s option table, writing into `b`.
+OptionTable bench_options(BenchArgs& b) {
+    OptionTable t("bench", std::string(kBenchUsage));
+    t.option("--engines", "E1,E2", "what to time (default classic,voxel), of:" + engine_lines(),
+             [&b](const std::string& list) {
+                 b.engines.clear();
+                 b.engines_given = true;
+                 for (const std::string& name : split(list)) {
+                     const Engine* engine = find_engine(name);
+                     if (!engine) throw UsageError(fmt::format("--engines: unknown engine '{}' ({})", name, engine_names()));
+                     b.engines.push_back(engine);
+                 }
+             });
+    t.flag("--mimages", "each run also computes the M-images (the FV model's components)\n"
+                        "after the evaluation; not for sign cells",
+           [&b] { b.measure.mimages = true; });
+    t.option("--sizes", "200,400,800", "nodes per axis (N means NxN, or NxNxN for a 3D model)",
+             [&b](const std::string& list) {
+                 b.sizes.clear();
+                 b.sizes_given = true;
+                 for (const std::string& n : split(list)) b.sizes.push_back(int(parse_integer("--sizes", n, 2, kMaxBenchNodes)));
+             });
+    t.option("--repeat", "N", "timed runs per cell (default 3; a cell stops repeating after 20 s)",
+             [&b](const std::string& v) {
+                 b.measure.repeat = int(parse_integer("--repeat", v, 1, 1000));
+                 b.repeat_given = true;
+             });
+    t.option("--budget", "OPS", "classic cells above OPS operations are skipped, with their\n"
+                                "estimated time printed (default 2e10)",
+             [&b](const std::string& text) {
+                 char* end = nullptr;
+                 const double v = std::strtod(text.c_str(), &end);
+                 if (text.empty() || *end != '\0' || !std::isfinite(v) || v <= 0)
+                     throw UsageError(fmt::format("--budget: '{}' is not a positive number of operations", text));
+                 b.measure.budget = v;
+             });
+    t.option("--threads", "N", "worker threads (default: all cores)",
+             [&b](const std::string& v) { b.measure.threads = int(parse_integer("--threads", v, 0, 1024)); });
+    t.option("--json", "FILE", "the results as JSON (schema fortu-bench/1)", [&b](const std::string& v) { b.json = v; });
+    t.option("--csv", "FILE", "one row per cell", [&b](const std::string& v) { b.csv = v; });
+    t.option("--plot", "FILE.svg", "median time against grid points, one line per model and engine",
+             [&b](const std::string& v) {
+                 b.plot = v;
+                 if (b.plot.size() < 4 || b.plot.substr(b.plot.size() - 4) != ".svg")
+                     throw UsageError(fmt::format("--plot: '{}' must end in .svg (fortu writes SVG plots)", b.plot));
+             });
+    t.flag("--paper", "the papers' experiments E1-E5", [&b] { b.paper = true; });
+    t.flag("--performance", "issue 5's suite beside its targets", [&b] { b.performance = true; });
+    t.flag("--quick", "--paper / --performance on small grids (a smoke run)", [&b] { b.quick = true; });
+    t.option("--out", "DIR", "where --paper / --performance write (default bench-results[/perf])",
+             [&b](const std::string& v) {
+                 b.out_dir = v;
+                 if (b.out_dir.empty()) throw UsageError("--out: give a folder name");
+             });
+    t.option("--examples", "DIR", "the papers' example models (default: FORTU_EXAMPLES, else the\n"
+                                  "source tree's examples/, else the installed ones)",
+             [&b](const std::string& v) { b.examples_dir = v; });
+    t.option("--data", "DIR", "the folder with prospero.vm (--performance; default:\n"
+                              "$FORTU_SHARED_DIR/data, else the one configured at build time)",
+             [&b](const std::string& v) { b.data_dir = v; });
+    t.positionals(b.models);
+    return t;
+}
+
+/// Parses `fortu bench`'s arguments; nullopt for --help (printed).
+std::optional<BenchArgs> parse_bench_args(const std::vector<std::string>& args) {
     BenchArgs b;
-    for (std::size_t i = 0; i < args.size(); ++i) {
-        const std::string& a = args[i];
-        auto value = [&]() -> const std::string& {
-            if (i + 1 >= args.size()) throw UsageError(fmt::format("'fortu bench': {} needs a value", a));
-            return args[++i];
-        };
-        if (a == "--engines") {
-            b.engines.clear();
-            b.engines_given = true;
-            for (const std::string& name : split(value())) {
-                const auto engine = parse_bench_engine(name);
-                if (!engine)
-                    throw UsageError(fmt::format("--engines: unknown engine '{}' ({})", name, bench_engine_names()));
-                b.engines.push_back(*engine);
-            }
-        } else if (a == "--mimages") {
-            b.measure.mimages = true;
-        } else if (a == "--sizes") {
-            b.sizes.clear();
-            b.sizes_given = true;
-            for (const std::string& n : split(value())) b.sizes.push_back(int(parse_integer("--sizes", n, 2, kMaxBenchNodes)));
-        } else if (a == "--repeat") {
-            b.measure.repeat = int(parse_integer("--repeat", value(), 1, 1000));
-            b.repeat_given = true;
-        } else if (a == "--threads") {
-            b.measure.threads = int(parse_integer("--threads", value(), 0, 1024));
-        } else if (a == "--budget") {
-            const std::string& text = value();
-            char* end = nullptr;
-            const double v = std::strtod(text.c_str(), &end);
-            if (text.empty() || *end != '\0' || !std::isfinite(v) || v <= 0)
-                throw UsageError(fmt::format("--budget: '{}' is not a positive number of operations", text));
-            b.measure.budget = v;
-        } else if (a == "--json") {
-            b.json = value();
-        } else if (a == "--csv") {
-            b.csv = value();
-        } else if (a == "--plot") {
-            b.plot = value();
-            if (b.plot.size() < 4 || b.plot.substr(b.plot.size() - 4) != ".svg")
-                throw UsageError(fmt::format("--plot: '{}' must end in .svg (fortu writes SVG plots)", b.plot));
-        } else if (a == "--paper") {
-            b.paper = true;
-        } else if (a == "--performance") {
-            b.performance = true;
-        } else if (a == "--quick") {
-            b.quick = true;
-        } else if (a == "--out") {
-            b.out_dir = value();
-            if (b.out_dir.empty()) throw UsageError("--out: give a folder name");
-        } else if (a == "--examples") {
-            b.examples_dir = value();
-        } else if (a == "--data") {
-            b.data_dir = value();
-        } else if (a.size() > 1 && a[0] == '-') {
-            throw UsageError(fmt::format("'fortu bench': unknown option '{}'", a));
-        } else {
-            b.models.push_back(a);
-        }
+    const OptionTable table = bench_options(b);
+    if (!table.parse(args)) {
+        std::cout << table.help();
+        return std::nullopt;
     }
     if (b.paper && b.performance) throw UsageError("'fortu bench': --paper and --performance are two runs; give one");
     const char* suite = b.suite();
@@ -175,7 +176,7 @@ Plot bench_plot(const std::vector<BenchCell>& cells) {
     plot.log_x = plot.log_y = true;
     for (const BenchCell& c : cells) {
         if (c.skipped) continue;
-        const std::string name = fmt::format("{} ({})", c.model, bench_engine_name(c.engine));
+        const std::string name = fmt::format("{} ({})", c.model, c.engine->name());
         auto it = std::find_if(plot.series.begin(), plot.series.end(), [&](const PlotSeries& s) { return s.name == name; });
         if (it == plot.series.end()) it = plot.series.insert(plot.series.end(), PlotSeries{name});
         it->points.emplace_back(double(c.points()), c.median);
@@ -195,7 +196,7 @@ int run_models(const BenchArgs& b) {
             if (double(grid.points()) > double(kMaxGridPoints))
                 throw UsageError(fmt::format("--sizes: {} is {} points, more than the {} fortu allocates",
                                              grid_size_text(grid), format_count(grid.points()), format_count(kMaxGridPoints)));
-            for (BenchEngine engine : b.engines) cells.push_back(measure_cell(path, *model, grid, engine, b.measure, rate));
+            for (const Engine* engine : b.engines) cells.push_back(measure_cell(path, *model, grid, *engine, b.measure, rate));
         }
     }
     if (cells.empty()) return status;
@@ -220,11 +221,9 @@ int run_models(const BenchArgs& b) {
 }  // namespace
 
 int run_bench_command(const std::vector<std::string>& args) {
-    if (std::find(args.begin(), args.end(), "--help") != args.end()) {
-        std::cout << kBenchUsage;
-        return 0;
-    }
-    const BenchArgs b = parse_bench_args(args);
+    const std::optional<BenchArgs> parsed = parse_bench_args(args);
+    if (!parsed) return 0;
+    const BenchArgs& b = *parsed;
     if (b.performance) {
         PerformanceOptions p;
         p.quick = b.quick;

@@ -48,7 +48,7 @@ private:
     void fortu_text(const std::string& text);
     void error(const std::string& message);
     bool need_model();
-    std::optional<std::string> classic_refusal(double points) const;
+    std::optional<std::string> classic_refusal(const Engine& engine, double points) const;
     std::optional<Field> evaluate(const Grid& grid);
 
     void eval(const std::vector<std::string>& args);
@@ -61,7 +61,7 @@ private:
 
     Session& session_;
     ReplIo io_;
-    EngineKind engine_ = EngineKind::Voxel;
+    const Engine* engine_ = &default_engine();
     std::array<double, 3> probe_{0, 0, 0};
     std::optional<EvalReport> last_;
     bool had_error_ = false;

@@ -35,6 +35,14 @@ struct SingularExpectation {
     std::vector<std::array<double, 3>> points;
 };
 
+/// `golden-engine both`: the engines whose values must agree (EngineCapabilities::exact),
+/// the default engine first (its output is what --update writes).
+std::vector<const Engine*> golden_both_engines();
+/// What golden-engine and `fortu golden --engine` take: "both" or an exact engine's name.
+std::optional<std::vector<const Engine*>> parse_golden_engines(const std::string& name);
+/// Those names for messages, the last after `last_separator`: "both, classic or voxel".
+std::string golden_engine_choices(const char* last_separator);
+
 /// One golden test: a script plus what it must produce.
 struct GoldenTest {
     std::string name;          ///< as printed: the script path, or MANIFEST:STEM
@@ -42,7 +50,7 @@ struct GoldenTest {
     std::string expected_stem; ///< NAME.expected.EXT and NAME.diff.EXT live at this stem + ".expected.EXT"
     std::vector<std::string> problems;  ///< malformed directives: the test fails with these
 
-    std::vector<EngineKind> engines{EngineKind::Voxel, EngineKind::Classic};
+    std::vector<const Engine*> engines = golden_both_engines();
     bool engines_given = false;
     std::optional<std::array<int, 2>> size_2d;   ///< `golden-size WxH`
     std::optional<std::array<int, 3>> size_3d;   ///< `golden-size WxHxD`

@@ -18,16 +18,7 @@
 
 namespace fortu {
 
-/// Folders INCLUDE searches after the script's own: `stdlib/` next to the binary, then the
-/// source tree's.
-std::vector<std::string> bench_stdlib_dirs();
-
-/// The first `relative` (e.g. "examples", "bench/models", "../shared/data") that is a folder
-/// beside the binary or beside one of its parent folders — the source tree's, for a binary in
-/// build/release/. nullopt when there is none.
-std::optional<std::filesystem::path> find_near_binary(const std::filesystem::path& relative);
-
-/// The example models: `given` if not empty, else examples/ found near the binary, else ./examples.
+/// The example models: `given` if not empty, else examples_dir() (cli/data_paths.hpp).
 std::filesystem::path examples_folder(const std::string& given);
 
 /// Reads and compiles a model file (.fortu, or a .vm model imported); diagnostics go to
@@ -47,16 +38,6 @@ Grid bench_grid(const Model& model, int nodes);
 /// "800x800" or "64x64x64".
 std::string grid_size_text(const Grid& grid);
 
-/// What a cell times: one of the two engines, the voxel engine in single precision, or the
-/// interval-pruned sign renderer (`fortu run --sign-only`).
-enum class BenchEngine { Classic, Voxel, VoxelFloat32, Sign };
-
-/// "classic", "voxel", "voxel-f32", "sign" (the --engines names, also used in JSON and CSV).
-const char* bench_engine_name(BenchEngine engine);
-std::optional<BenchEngine> parse_bench_engine(const std::string& name);
-/// The names parse_bench_engine() accepts, for messages: "classic, voxel, voxel-f32, sign".
-std::string bench_engine_names();
-
 struct MeasureOptions {
     int repeat = 3;               ///< timed runs per cell (at least one)
     double repeat_cap = 20.0;     ///< no further repeat once the runs so far took this long (s)
@@ -68,7 +49,7 @@ struct MeasureOptions {
 /// One measured (or skipped) combination of model, engine and grid.
 struct BenchCell {
     std::string model;                 ///< path or generated name
-    BenchEngine engine = BenchEngine::Voxel;
+    const Engine* engine = &default_engine();   ///< what the cell times (its name goes in JSON and CSV)
     Grid grid;
     double operations_per_point = 0;   ///< classic: expanded tree; others: tape instructions
     bool skipped = false;
@@ -112,7 +93,7 @@ private:
 /// plus the FV model's normalised components (FvModel), i.e. the M-images before palette
 /// encoding and file writing. A classic cell over options.budget, or nested deeper than the
 /// classic engine recurses, is returned skipped with its estimate.
-BenchCell measure_cell(const std::string& name, const Model& model, const Grid& grid, BenchEngine engine,
+BenchCell measure_cell(const std::string& name, const Model& model, const Grid& grid, const Engine& engine,
                        const MeasureOptions& options, ClassicRate& rate);
 
 /// One (name, model, grid) of an interleaved series.
@@ -126,7 +107,7 @@ struct SeriesEntry {
 /// turn: a change in the machine's load during the series then shifts every entry alike
 /// instead of bending the curve (E3's voxel line). Peak memory is the series' own, the same
 /// for every cell.
-std::vector<BenchCell> measure_interleaved(const std::vector<SeriesEntry>& entries, BenchEngine engine,
+std::vector<BenchCell> measure_interleaved(const std::vector<SeriesEntry>& entries, const Engine& engine,
                                            const MeasureOptions& options);
 
 /// How peak memory was measured, for the reports ("clear_refs" or "ru_maxrss").

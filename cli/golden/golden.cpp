@@ -1,10 +1,10 @@
 // cli/golden.cpp — `fortu golden DIR|FILE... [--engine both|classic|voxel] [--update]
 // [--jobs N]`: collects the tests, runs them (on N threads), and reports one block per test in
 // a stable order and a summary ending `N passed, M failed`, the line CI reads.
-#include "cli/cli_options.hpp"
+#include "cli/option_table.hpp"
 #include "cli/commands.hpp"
-#include "cli/golden_run.hpp"
-#include "cli/golden_spec.hpp"
+#include "cli/golden/golden_run.hpp"
+#include "cli/golden/golden_spec.hpp"
 #include "runtime/output_formats.hpp"
 
 #include <fmt/format.h>
@@ -18,8 +18,14 @@
 namespace fortu {
 namespace {
 
-constexpr const char* kGoldenUsage =
-    "usage: fortu golden DIR|FILE... [--engine both|classic|voxel] [--update] [--jobs N]";
+/// "both|classic|voxel": what --engine and golden-engine take (the exact engines of the table).
+std::string engine_choices() {
+    return "both|" + engine_names("|", "|", [](const EngineCapabilities& can) { return can.exact; });
+}
+
+std::string golden_usage() {
+    return fmt::format("usage: fortu golden DIR|FILE... [--engine {}] [--update] [--jobs N]", engine_choices());
+}
 
 constexpr const char* kGoldenHelp = R"(
 A golden test is a .fortu script with expectations in its comments, and/or reference files
@@ -29,7 +35,7 @@ beside it (NAME.expected.{bar}, made and refreshed by --update):
                                              expect-boundary = 0)
   // expect-error LINE:COL: MESSAGE          the script's errors, in order
   // expect-singular (X, Y) ... | none       every singular point `fortu singular` finds
-  // golden-engine both|classic|voxel        default both (--engine overrides)
+  // golden-engine {engines:<25} default both (--engine overrides)
   // golden-size N | WxH | WxHxD ...         default RECTBMP, else 64x64 (2D), 16x16x16 (3D)
   // golden-tolerance T                      values, npy, csv, svg, exr (default 1e-9)
   // golden-pixel-tolerance L                png, in 8-bit levels (default 0)
@@ -44,41 +50,38 @@ struct GoldenCommand {
     GoldenRunOptions run;
     int jobs = 1;
     bool help = false;
+    std::string help_text;   ///< with help: the text --help prints
 };
 
 GoldenCommand parse_golden_arguments(const std::vector<std::string>& args) {
     GoldenCommand c;
-    for (std::size_t i = 0; i < args.size(); ++i) {
-        const std::string& a = args[i];
-        auto value = [&]() -> const std::string& {
-            if (i + 1 >= args.size()) throw UsageError(fmt::format("'fortu golden': {} needs a value\n{}", a, kGoldenUsage));
-            return args[++i];
-        };
-        if (a == "--help" || a == "-h") {
-            c.help = true;
-        } else if (a == "--update") {
-            c.run.update = true;
-        } else if (a == "--engine") {
-            const std::string& e = value();
-            if (e == "both") c.run.engines = std::vector{EngineKind::Voxel, EngineKind::Classic};
-            else if (auto kind = parse_engine(e)) c.run.engines = std::vector{*kind};
-            else throw UsageError(fmt::format("'fortu golden': --engine '{}' is not both, classic or voxel", e));
-        } else if (a == "--jobs" || a == "-j") {
-            const std::string& n = value();
-            std::size_t used = 0;
-            int jobs = 0;
-            try { jobs = std::stoi(n, &used); } catch (...) { used = 0; }
-            if (used != n.size() || jobs < 1 || jobs > 256)
-                throw UsageError(fmt::format("'fortu golden': --jobs '{}' is not a number of threads from 1 to 256", n));
-            c.jobs = jobs;
-        } else if (a.size() > 1 && a[0] == '-') {
-            throw UsageError(fmt::format("'fortu golden': unknown option '{}'\n{}", a, kGoldenUsage));
-        } else {
-            c.paths.push_back(a);
-        }
+    OptionTable t("golden", golden_usage() + "\n" + fmt::format(fmt::runtime(kGoldenHelp), fmt::arg("engines", engine_choices()),
+                                                         fmt::arg("bar", fmt::join(golden_output_kinds(), "|")),
+                                                         fmt::arg("spaced", fmt::join(golden_output_kinds(), " "))));
+    t.flag("--update", "rewrite, atomically, the references and expectation lines that failed",
+           [&c] { c.run.update = true; });
+    t.option("--engine", engine_choices(), "the engines every test runs (replaces golden-engine)",
+             [&c](const std::string& e) {
+                 c.run.engines = parse_golden_engines(e);
+                 if (!c.run.engines)
+                     throw UsageError(fmt::format("'fortu golden': --engine '{}' is not {}", e, golden_engine_choices(" or ")));
+             });
+    t.option("-j,--jobs", "N", "tests run at a time (default 1); the output order never changes",
+             [&c](const std::string& n) {
+                 std::size_t used = 0;
+                 int jobs = 0;
+                 try { jobs = std::stoi(n, &used); } catch (...) { used = 0; }
+                 if (used != n.size() || jobs < 1 || jobs > 256)
+                     throw UsageError(fmt::format("'fortu golden': --jobs '{}' is not a number of threads from 1 to 256", n));
+                 c.jobs = jobs;
+             });
+    t.positionals(c.paths);
+    if (!t.parse(args)) {
+        c.help = true;
+        c.help_text = t.help();
     }
     if (c.help) return c;
-    if (c.paths.empty()) throw UsageError(fmt::format("'fortu golden': no tests given\n{}", kGoldenUsage));
+    if (c.paths.empty()) throw UsageError(fmt::format("'fortu golden': no tests given\n{}", golden_usage()));
     // Tests share the cores: one evaluation thread each when several run at once.
     c.run.eval_threads = c.jobs > 1 ? 1 : 0;
     return c;
@@ -109,9 +112,7 @@ std::string report(const std::string& name, const GoldenResult& r) {
 int run_golden_command(const std::vector<std::string>& args) {
     const GoldenCommand command = parse_golden_arguments(args);
     if (command.help) {
-        std::cout << kGoldenUsage << "\n"
-                  << fmt::format(fmt::runtime(kGoldenHelp), fmt::arg("bar", fmt::join(golden_output_kinds(), "|")),
-                                 fmt::arg("spaced", fmt::join(golden_output_kinds(), " ")));
+        std::cout << command.help_text;
         return 0;
     }
     std::vector<GoldenTest> tests;

@@ -2,13 +2,14 @@
 // mark (VmHWM) is reset through /proc/self/clear_refs before the cell and read after it, so
 // each cell reports its own peak, not the process's; where that is refused, the process's
 // ru_maxrss growth over the cell is reported instead (memory_method() says which).
-#include "cli/bench_measure.hpp"
+#include "cli/bench/bench_measure.hpp"
+
+#include "cli/data_paths.hpp"
 
 #include "grammar/diagnostic.hpp"
 #include "interp/classic_cost.hpp"
 #include "interp/ir_print.hpp"
 #include "interp/lower.hpp"
-#include "interp/sign_render.hpp"
 #include "interp/tape.hpp"
 #include "interp/vm_import.hpp"
 #include "runtime/fv_model.hpp"
@@ -29,19 +30,10 @@ namespace {
 
 constexpr double kCalibrationOperations = 2e7;
 
-struct EngineEntry {
-    BenchEngine engine;
-    const char* name;
-};
-constexpr EngineEntry kEngines[] = {{BenchEngine::Classic, "classic"},
-                                    {BenchEngine::Voxel, "voxel"},
-                                    {BenchEngine::VoxelFloat32, "voxel-f32"},
-                                    {BenchEngine::Sign, "sign"}};
-
 std::optional<Model> compile_source(std::shared_ptr<SourceFile> source) {
     DiagnosticSink sink;
     CompileOptions options;
-    options.include_dirs = bench_stdlib_dirs();
+    options.include_dirs = stdlib_dirs();
     std::optional<Model> model =
         is_vm_path(source->path()) ? import_vm(source, sink) : compile(source, options, sink);
     for (const Diagnostic& d : sink.diagnostics())
@@ -78,49 +70,9 @@ bool& clear_refs_works() {
 
 }  // namespace
 
-const char* bench_engine_name(BenchEngine engine) {
-    for (const EngineEntry& e : kEngines)
-        if (e.engine == engine) return e.name;
-    return "?";
-}
-
-std::optional<BenchEngine> parse_bench_engine(const std::string& name) {
-    for (const EngineEntry& e : kEngines)
-        if (name == e.name) return e.engine;
-    return std::nullopt;
-}
-
-std::string bench_engine_names() {
-    std::string names;
-    for (const EngineEntry& e : kEngines) names += (names.empty() ? "" : ", ") + std::string(e.name);
-    return names;
-}
-
-std::optional<std::filesystem::path> find_near_binary(const std::filesystem::path& relative) {
-    std::error_code ec;
-    const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-    if (ec) return std::nullopt;
-    for (auto dir = exe.parent_path(); !dir.empty(); dir = dir.parent_path()) {
-        if (std::filesystem::is_directory(dir / relative, ec)) return (dir / relative).lexically_normal();
-        if (dir == dir.root_path()) break;
-    }
-    return std::nullopt;
-}
-
 std::filesystem::path examples_folder(const std::string& given) {
     if (!given.empty()) return given;
-    return find_near_binary("examples").value_or("examples");
-}
-
-std::vector<std::string> bench_stdlib_dirs() {
-    std::vector<std::string> dirs;
-    std::error_code ec;
-    auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-    if (!ec) {
-        dirs.push_back((exe.parent_path() / "stdlib").string());
-        dirs.push_back((exe.parent_path().parent_path().parent_path() / "stdlib").string());
-    }
-    return dirs;
+    return examples_dir();
 }
 
 std::optional<Model> load_bench_model(const std::string& path) {
@@ -185,7 +137,7 @@ double median_of(std::vector<double> v) {
 const char* memory_method() { return clear_refs_works() ? "clear_refs" : "ru_maxrss"; }
 
 void ClassicRate::observe(const BenchCell& cell, int threads) {
-    if (cell.engine != BenchEngine::Classic || cell.skipped || cell.median <= 0) return;
+    if (!cell.engine->capabilities().expanded_tree_cost || cell.skipped || cell.median <= 0) return;
     Known& k = known_[threads];
     if (cell.total_operations() < k.operations) return;
     k.operations = cell.total_operations();
@@ -205,7 +157,7 @@ double ClassicRate::seconds_per_operation(int threads) {
     EvalOptions eval;
     eval.threads = threads;
     Stopwatch clock;
-    evaluate_grid(*model, grid, EngineKind::Classic, eval);
+    evaluate_grid(*model, grid, engine_named("classic"), eval);
     k.seconds_per_operation = clock.seconds() / (per_point * double(grid.points()));
     return k.seconds_per_operation;
 }
@@ -213,7 +165,7 @@ double ClassicRate::seconds_per_operation(int threads) {
 namespace {
 
 void set_operations(BenchCell& cell, const Model& model) {
-    cell.operations_per_point = cell.engine == BenchEngine::Classic
+    cell.operations_per_point = cell.engine->capabilities().expanded_tree_cost
                                     ? classic_operations_per_point(model.graph, model.root)
                                     : double(compile_tape(model.graph, model.root).code.size());
 }
@@ -225,20 +177,9 @@ double process_cpu_seconds() {
     return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
 }
 
-/// The field as `fortu run` computes it for this engine (`--precision float32`, `--sign-only`).
-Field evaluate_for(const Model& model, const Grid& grid, BenchEngine engine, EvalOptions eval) {
-    switch (engine) {
-        case BenchEngine::Classic: return evaluate_grid(model, grid, EngineKind::Classic, eval);
-        case BenchEngine::Voxel: break;
-        case BenchEngine::VoxelFloat32: eval.precision = Precision::Float32; break;
-        case BenchEngine::Sign: return sign_render(model.graph, model.root, grid, eval);
-    }
-    return evaluate_grid(model, grid, EngineKind::Voxel, eval);
-}
-
 /// M-images of a sign image would be planes through ±1 steps: sign cells never compute them.
-bool computes_mimages(BenchEngine engine, const MeasureOptions& options) {
-    return options.mimages && engine != BenchEngine::Sign;
+bool computes_mimages(const Engine& engine, const MeasureOptions& options) {
+    return options.mimages && !engine.capabilities().sign_only;
 }
 
 /// One timed run of a cell, appended to its seconds, CPU seconds and M-image seconds.
@@ -247,8 +188,8 @@ void timed_run(BenchCell& cell, const Model& model, const MeasureOptions& option
     eval.threads = options.threads;
     const double cpu = process_cpu_seconds();
     Stopwatch clock;
-    const Field field = evaluate_for(model, cell.grid, cell.engine, eval);
-    if (computes_mimages(cell.engine, options)) {
+    const Field field = evaluate_grid(model, cell.grid, *cell.engine, eval);
+    if (computes_mimages(*cell.engine, options)) {
         Stopwatch mimages_clock;
         const FvModel fv(field);   // the normalised components n1..n_{dims+2}: the M-images' values
         cell.mimages_seconds.push_back(mimages_clock.seconds());
@@ -266,10 +207,10 @@ void summarise(BenchCell& cell) {
     cell.median = median_of(cell.seconds);
 }
 
-BenchCell new_cell(const std::string& name, const Model& model, const Grid& grid, BenchEngine engine) {
+BenchCell new_cell(const std::string& name, const Model& model, const Grid& grid, const Engine& engine) {
     BenchCell cell;
     cell.model = name;
-    cell.engine = engine;
+    cell.engine = &engine;
     cell.grid = grid;
     set_operations(cell, model);
     return cell;
@@ -277,7 +218,7 @@ BenchCell new_cell(const std::string& name, const Model& model, const Grid& grid
 
 }  // namespace
 
-std::vector<BenchCell> measure_interleaved(const std::vector<SeriesEntry>& entries, BenchEngine engine,
+std::vector<BenchCell> measure_interleaved(const std::vector<SeriesEntry>& entries, const Engine& engine,
                                            const MeasureOptions& options) {
     std::vector<BenchCell> cells;
     for (const SeriesEntry& entry : entries) cells.push_back(new_cell(entry.name, *entry.model, entry.grid, engine));
@@ -294,10 +235,10 @@ std::vector<BenchCell> measure_interleaved(const std::vector<SeriesEntry>& entri
     return cells;
 }
 
-BenchCell measure_cell(const std::string& name, const Model& model, const Grid& grid, BenchEngine engine,
+BenchCell measure_cell(const std::string& name, const Model& model, const Grid& grid, const Engine& engine,
                        const MeasureOptions& options, ClassicRate& rate) {
     BenchCell cell = new_cell(name, model, grid, engine);
-    if (engine == BenchEngine::Classic) {
+    if (engine.capabilities().expanded_tree_cost) {
         const int depth = dag_depth(model.graph, model.root);
         if (depth > kClassicMaxDepth) {
             cell.skipped = true;

@@ -3,9 +3,11 @@
 // field in float32 or float64, a field with its M-images), so one command measures exactly
 // those and prints them beside each other. Every cell is an ordinary bench cell
 // (measure_cell), so the numbers mean what `fortu bench MODEL --engines ...` means.
-#include "cli/bench_performance.hpp"
+#include "cli/bench/bench_performance.hpp"
 
-#include "cli/bench_report.hpp"
+#include "cli/data_paths.hpp"
+
+#include "cli/bench/bench_report.hpp"
 #include "runtime/atomic_file.hpp"
 #include "runtime/output_error.hpp"
 #include "runtime/resources.hpp"
@@ -31,7 +33,7 @@ struct Work {
     SuiteModel model;
     const char* what;            ///< after the model and the grid: "sign image", ...
     int size, quick_size;        ///< nodes per axis
-    BenchEngine engine;
+    const char* engine;          ///< its name in the engine table
     bool mimages;                ///< evaluation plus the four M-images
     bool show_peak;              ///< peak memory printed beside the time
     double target_seconds;       ///< 0: no target
@@ -43,19 +45,19 @@ struct Work {
 constexpr const char* kNone = "—";
 
 constexpr Work kSuite[] = {
-    {SuiteModel::Prospero, "sign image", 1024, 128, BenchEngine::Sign, false, false, 0.011, 0, "≤ 11 ms",
+    {SuiteModel::Prospero, "sign image", 1024, 128, "sign", false, false, 0.011, 0, "≤ 11 ms",
      "libfive interval 34 ms"},
-    {SuiteModel::Prospero, "full field, float32", 1024, 128, BenchEngine::VoxelFloat32, false, true, 0.170, 64,
+    {SuiteModel::Prospero, "full field, float32", 1024, 128, "voxel-f32", false, true, 0.170, 64,
      "≤ 170 ms, peak ≤ 64 MiB", "libfive brute force 513 ms, numpy float32 1715 ms / 71 MiB, OpenVDB AX 589 ms"},
-    {SuiteModel::Prospero, "full field, float64", 1024, 128, BenchEngine::Voxel, false, true, 0, 0, kNone, kNone},
-    {SuiteModel::Floz64, "full field, float32", 800, 100, BenchEngine::VoxelFloat32, false, false, 0.020, 0,
+    {SuiteModel::Prospero, "full field, float64", 1024, 128, "voxel", false, true, 0, 0, kNone, kNone},
+    {SuiteModel::Floz64, "full field, float32", 800, 100, "voxel-f32", false, false, 0.020, 0,
      "≤ 20 ms", "numpy 287 ms, OpenVDB AX 145 ms, libfive 62 ms"},
-    {SuiteModel::Floz64, "full field, float64", 800, 100, BenchEngine::Voxel, false, false, 0, 0, kNone, kNone},
-    {SuiteModel::Floz64, "sign image", 800, 100, BenchEngine::Sign, false, false, 0, 0, kNone,
+    {SuiteModel::Floz64, "full field, float64", 800, 100, "voxel", false, false, 0, 0, kNone, kNone},
+    {SuiteModel::Floz64, "sign image", 800, 100, "sign", false, false, 0, 0, kNone,
      "libfive interval 382 ms"},
-    {SuiteModel::Fig3a, "field and its four M-images, float32", 800, 100, BenchEngine::VoxelFloat32, true, false,
+    {SuiteModel::Fig3a, "field and its four M-images, float32", 800, 100, "voxel-f32", true, false,
      0.020, 0, "≤ 20 ms", kNone},
-    {SuiteModel::Fig3a, "field and its four M-images, float64", 800, 100, BenchEngine::Voxel, true, false, 0.020, 0,
+    {SuiteModel::Fig3a, "field and its four M-images, float64", 800, 100, "voxel", true, false, 0.020, 0,
      "≤ 20 ms", kNone},
 };
 
@@ -133,7 +135,7 @@ std::string rows_json(const std::vector<RowResult>& rows, bool quick) {
             "      \"mimages\": {},\n      \"target_seconds\": {},\n      \"target_peak_rss_bytes\": {},\n"
             "      \"reference\": {},\n      \"status\": \"{}\",\n      \"met\": {},\n      \"reason\": {},\n"
             "      \"cell\": {}\n    }}{}\n",
-            json_string(r.label), json_string(r.model->path.string()), bench_engine_name(w.engine), r.size, r.size,
+            json_string(r.label), json_string(r.model->path.string()), w.engine, r.size, r.size,
             w.mimages ? "true" : "false", w.target_seconds > 0 ? json_number(w.target_seconds) : "null",
             w.target_peak_mib > 0 ? json_number(w.target_peak_mib * kMiB) : "null", w.reference == kNone ? "null" : json_string(w.reference),
             r.cell ? "measured" : "not run", judged ? (r.met() ? "true" : "false") : "null",
@@ -154,10 +156,7 @@ std::string load_average() {
 
 std::string shared_data_folder(const std::string& given) {
     if (!given.empty()) return given;
-    if (const char* shared = std::getenv("FORTU_SHARED_DIR"); shared && *shared)
-        return (fs::path(shared) / "data").string();
-    if (auto beside = find_near_binary("../shared/data")) return beside->string();
-    return find_near_binary("tests/shared/data").value_or("../shared/data").string();
+    return shared_data_dir().string();
 }
 
 int run_performance_benchmarks(const PerformanceOptions& options) {
@@ -171,11 +170,11 @@ int run_performance_benchmarks(const PerformanceOptions& options) {
     const std::string load = load_average();
     Stopwatch clock;
     const std::string data = shared_data_folder(options.data_dir);
-    const fs::path floz64 = find_near_binary("bench/models").value_or("bench/models") / "floz64.vm";
+    const fs::path floz64 = bench_models_dir() / "floz64.vm";
     const LoadedModel models[] = {
         load_suite_model("prospero.vm", fs::path(data) / "prospero.vm",
                          "give --data DIR, the folder with prospero.vm, or set FORTU_SHARED_DIR"),
-        load_suite_model("64-segment FLOZ (floz64.vm)", floz64, "bench/models/ of the source tree"),
+        load_suite_model("64-segment FLOZ (floz64.vm)", floz64, "set FORTU_BENCH_MODELS to the source tree's bench/models"),
         load_suite_model("S1 Fig. 3a FLOZ contour", examples_folder(options.examples_dir) / "s1_fig3a_floz.fortu",
                          "give --examples DIR"),
     };
@@ -190,9 +189,9 @@ int run_performance_benchmarks(const PerformanceOptions& options) {
             MeasureOptions measure = options.measure;
             measure.mimages = w.mimages;
             const Grid grid = bench_grid(*m.model, size);
-            std::cerr << fmt::format("bench: {} {} {}{} ...\n", m.path.filename().string(), bench_engine_name(w.engine),
+            std::cerr << fmt::format("bench: {} {} {}{} ...\n", m.path.filename().string(), w.engine,
                                      grid_size_text(grid), w.mimages ? " + M-images" : "");
-            r.cell = measure_cell(m.path.string(), *m.model, grid, w.engine, measure, unused_rate);
+            r.cell = measure_cell(m.path.string(), *m.model, grid, engine_named(w.engine), measure, unused_rate);
         }
         rows.push_back(std::move(r));
     }

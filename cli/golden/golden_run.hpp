@@ -2,7 +2,7 @@
 // expectations and reference files on each engine, and with --update rewrite what failed.
 #pragma once
 
-#include "cli/golden_spec.hpp"
+#include "cli/golden/golden_spec.hpp"
 
 #include <optional>
 #include <string>
@@ -11,7 +11,7 @@
 namespace fortu {
 
 struct GoldenRunOptions {
-    std::optional<std::vector<EngineKind>> engines;   ///< --engine: replaces every test's own
+    std::optional<std::vector<const Engine*>> engines;   ///< --engine: replaces every test's own
     bool update = false;                              ///< --update
     int eval_threads = 0;                             ///< per grid evaluation (0: all cores)
 };

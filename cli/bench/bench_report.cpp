@@ -1,6 +1,6 @@
 // cli/bench_report.cpp — text, JSON and CSV renderings of bench cells. The JSON is written by
 // hand (a few fixed shapes) so its key order and number format stay stable across versions.
-#include "cli/bench_report.hpp"
+#include "cli/bench/bench_report.hpp"
 
 #include "interp/ir_print.hpp"
 #include "runtime/resources.hpp"
@@ -28,9 +28,9 @@ std::string pad(const std::string& s, std::size_t width) {
 }
 
 const BenchCell* find_cell(const std::vector<BenchCell>& cells, const std::string& model, const std::string& size,
-                           BenchEngine engine) {
+                           const Engine& engine) {
     for (const BenchCell& c : cells)
-        if (c.model == model && grid_size_text(c.grid) == size && c.engine == engine) return &c;
+        if (c.model == model && grid_size_text(c.grid) == size && c.engine == &engine) return &c;
     return nullptr;
 }
 
@@ -90,9 +90,9 @@ std::string memory_method_text() {
 std::vector<BenchRatio> bench_ratios(const std::vector<BenchCell>& cells) {
     std::vector<BenchRatio> ratios;
     for (const BenchCell& c : cells) {
-        if (c.engine != BenchEngine::Classic) continue;
+        if (!c.engine->capabilities().expanded_tree_cost) continue;
         const std::string size = grid_size_text(c.grid);
-        const BenchCell* v = find_cell(cells, c.model, size, BenchEngine::Voxel);
+        const BenchCell* v = find_cell(cells, c.model, size, engine_named("voxel"));
         if (!v || v->skipped || v->median <= 0) continue;
         if (c.skipped && c.estimated_seconds < 0) continue;
         ratios.push_back({c.model, size, (c.skipped ? c.estimated_seconds : c.median) / v->median, c.skipped});
@@ -104,13 +104,13 @@ std::string bench_table(const std::vector<BenchCell>& cells) {
     std::size_t model_width = 5, engine_width = 7;
     for (const BenchCell& c : cells) {
         model_width = std::max(model_width, c.model.size());
-        engine_width = std::max(engine_width, std::string(bench_engine_name(c.engine)).size());
+        engine_width = std::max(engine_width, c.engine->name().size());
     }
     std::string out = pad("model", model_width) + "  " + pad("engine", engine_width) +
                       "  size          points  runs  min        median     max"
                       "        per point   ops/point     peak memory (growth)\n";
     for (const BenchCell& c : cells) {
-        out += pad(c.model, model_width) + "  " + pad(bench_engine_name(c.engine), engine_width) + "  " +
+        out += pad(c.model, model_width) + "  " + pad(std::string(c.engine->name()), engine_width) + "  " +
                pad(grid_size_text(c.grid), 12) + fmt::format("{:>8}", format_count(c.points())) + "  ";
         if (c.skipped) {
             out += fmt::format("skipped: {}; estimated {} ({} operations per point)\n", c.skip_reason,
@@ -166,7 +166,7 @@ std::string cell_json(const BenchCell& c, int indent) {
     std::string out = fmt::format(
         "{0}{{\n{0}  \"model\": {1},\n{0}  \"engine\": \"{2}\",\n{0}  \"size\": [{3}],\n{0}  \"points\": {4},\n"
         "{0}  \"operations_per_point\": {5},\n{0}  \"status\": \"{6}\",\n",
-        in, json_string(c.model), bench_engine_name(c.engine), size, c.points(), json_number(c.operations_per_point),
+        in, json_string(c.model), c.engine->name(), size, c.points(), json_number(c.operations_per_point),
         c.skipped ? "skipped" : "measured");
     if (c.skipped) {
         out += fmt::format("{0}  \"skip_reason\": {1},\n{0}  \"estimated_operations\": {2},\n"
@@ -221,7 +221,7 @@ std::string bench_csv(const std::vector<BenchCell>& cells) {
         return q + "\"";
     };
     for (const BenchCell& c : cells) {
-        out += fmt::format("{},{},{},{},{},{},{},", quoted(c.model), bench_engine_name(c.engine), c.grid.cols(),
+        out += fmt::format("{},{},{},{},{},{},{},", quoted(c.model), c.engine->name(), c.grid.cols(),
                            c.grid.rows(), c.grid.slices(), c.points(), c.skipped ? "skipped" : "measured");
         if (c.skipped)
             out += fmt::format("0,,,,,{},,{},0,\n", json_number(c.operations_per_point),

@@ -2,7 +2,7 @@
 // reference file is compared with that engine's output, so "both" also checks that the two
 // engines agree. New outputs are written to a private temporary folder and only copied beside
 // the test (NAME.actual.EXT, NAME.diff.EXT) when they differ.
-#include "cli/golden_run.hpp"
+#include "cli/golden/golden_run.hpp"
 
 #include "grammar/diagnostic.hpp"
 #include "interp/classic_cost.hpp"
@@ -177,9 +177,9 @@ private:
     void fail(std::string message) { failures_.push_back(std::move(message)); }
     bool check_errors(const DiagnosticSink& sink);
     bool classic_allowed(const Model& model, double points);
-    void check_points(const Model& model, const std::vector<EngineKind>& engines);
+    void check_points(const Model& model, const std::vector<const Engine*>& engines);
     void check_point(const PointExpectation& e, double v, const std::string& label);
-    void check_files(const Model& model, const Grid& grid, const std::vector<EngineKind>& engines);
+    void check_files(const Model& model, const Grid& grid, const std::vector<const Engine*>& engines);
     void check_singular(const Model& model);
     void check_file(const Field& field, const std::string& kind, const std::string& label, bool first_engine);
     std::string expected_path(const std::string& kind) const { return test_.expected_stem + ".expected." + kind; }
@@ -252,11 +252,11 @@ bool same_values(std::span<const double> a, std::span<const double> b) {
     return true;
 }
 
-std::string engines_label(const std::vector<EngineKind>& engines) {
-    return engines.size() > 1 ? "both engines" : engine_name(engines[0]);
+std::string engines_label(const std::vector<const Engine*>& engines) {
+    return engines.size() > 1 ? "both engines" : std::string(engines[0]->name());
 }
 
-void TestRun::check_points(const Model& model, const std::vector<EngineKind>& engines) {
+void TestRun::check_points(const Model& model, const std::vector<const Engine*>& engines) {
     for (const PointExpectation& e : test_.points) {
         if (e.point.size() != model.arguments.size()) {
             fail(fmt::format("line {}: {} gives {} coordinate(s); the model has {} argument(s)", e.line,
@@ -266,13 +266,13 @@ void TestRun::check_points(const Model& model, const std::vector<EngineKind>& en
         std::array<double, 3> p{0, 0, 0};
         for (std::size_t i = 0; i < e.point.size(); ++i) p[i] = e.point[i];
         std::vector<double> values;
-        for (EngineKind engine : engines) values.push_back(evaluate_point(model, p, engine).value);
+        for (const Engine* engine : engines) values.push_back(evaluate_point(model, p, *engine).value);
         bool agree = true;
         for (double v : values) agree = agree && same_values(std::span(&v, 1), std::span(values.data(), 1));
         if (agree) {
             check_point(e, values[0], engines_label(engines));
         } else {
-            for (std::size_t i = 0; i < engines.size(); ++i) check_point(e, values[i], engine_name(engines[i]));
+            for (std::size_t i = 0; i < engines.size(); ++i) check_point(e, values[i], std::string(engines[i]->name()));
         }
     }
 }
@@ -410,22 +410,22 @@ void TestRun::check_singular(const Model& model) {
     fail(message);
 }
 
-void TestRun::check_files(const Model& model, const Grid& grid, const std::vector<EngineKind>& engines) {
+void TestRun::check_files(const Model& model, const Grid& grid, const std::vector<const Engine*>& engines) {
     if (kinds_.empty()) return;
-    std::vector<EngineKind> ran;
+    std::vector<const Engine*> ran;
     std::vector<Field> fields;
     EvalOptions eval;
     eval.threads = options_.eval_threads;
-    for (EngineKind engine : engines) {
-        if (engine == EngineKind::Classic && !classic_allowed(model, double(grid.points()))) continue;
+    for (const Engine* engine : engines) {
+        if (engine->capabilities().expanded_tree_cost && !classic_allowed(model, double(grid.points()))) continue;
         ran.push_back(engine);
-        fields.push_back(evaluate_grid(model, grid, engine, eval));
+        fields.push_back(evaluate_grid(model, grid, *engine, eval));
     }
     if (fields.empty()) return;
     if (fields.size() == 2 && same_values(fields[0].values, fields[1].values)) fields.pop_back();
     for (std::size_t i = 0; i < fields.size(); ++i)
         for (const std::string& kind : kinds_)
-            check_file(fields[i], kind, fields.size() == 1 ? engines_label(ran) : engine_name(ran[i]), i == 0);
+            check_file(fields[i], kind, fields.size() == 1 ? engines_label(ran) : std::string(ran[i]->name()), i == 0);
 }
 
 GoldenResult TestRun::run() {
@@ -475,13 +475,13 @@ GoldenResult TestRun::run() {
             check_errors(sink);
         }
     } else {
-        const std::vector<EngineKind> engines = options_.engines.value_or(test_.engines);
+        const std::vector<const Engine*> engines = options_.engines.value_or(test_.engines);
         const Grid grid = golden_grid(*model, test_);
         try {
-            std::vector<EngineKind> point_engines;
+            std::vector<const Engine*> point_engines;
             const double points = double(test_.points.size()) * (1 + model->dims());
-            for (EngineKind engine : engines)
-                if (engine != EngineKind::Classic || test_.points.empty() || classic_allowed(*model, points))
+            for (const Engine* engine : engines)
+                if (!engine->capabilities().expanded_tree_cost || test_.points.empty() || classic_allowed(*model, points))
                     point_engines.push_back(engine);
             if (!test_.points.empty() && !point_engines.empty()) check_points(*model, point_engines);
             check_files(*model, grid, engines);

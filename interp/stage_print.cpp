@@ -17,7 +17,7 @@ std::optional<IrStage> parse_ir_stage(std::string_view name) {
 }
 
 std::string print_tape(const Tape& tape, const std::vector<std::string>& arguments, const TapeNaming& naming) {
-    std::string out = fmt::format("; {} operations, {} slots\n", tape.code.size(), tape.slot_count);
+    std::string out = fmt::format("; {} operation{}, {} slots\n", tape.code.size(), tape.code.size() == 1 ? "" : "s", tape.slot_count);
     for (auto [slot, axis] : tape.arguments)
         out += fmt::format("s{} = arg {}\n", slot,
                            axis < static_cast<int>(arguments.size()) ? arguments[axis] : std::to_string(axis));

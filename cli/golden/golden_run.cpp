@@ -4,6 +4,7 @@
 // the test (NAME.actual.EXT, NAME.diff.EXT) when they differ.
 #include "cli/golden/golden_run.hpp"
 
+#include "cli/data_paths.hpp"
 #include "grammar/diagnostic.hpp"
 #include "interp/classic_cost.hpp"
 #include "interp/ir_print.hpp"
@@ -31,18 +32,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using Status = GoldenResult::Status;
-
-/// The installed stdlib: `stdlib/` next to the binary, then the source tree's (as `fortu run`).
-std::vector<std::string> stdlib_dirs() {
-    std::vector<std::string> dirs;
-    std::error_code ec;
-    auto exe = fs::read_symlink("/proc/self/exe", ec);
-    if (!ec) {
-        dirs.push_back((exe.parent_path() / "stdlib").string());
-        dirs.push_back((exe.parent_path().parent_path() / "stdlib").string());
-    }
-    return dirs;
-}
 
 /// A private temporary folder, removed with the object.
 class TempDir {

@@ -85,3 +85,15 @@ TEST_CASE("stage hoist: X-only values per column, values without X per row, the 
           "s3 = rand s4 s2 alpha=0\n"
           "return s3\n");
 }
+
+TEST_CASE("stage tape counts one operation in the singular") {
+    auto c = test::compile_text("ARGUMENT X, Y\nRETURN SQRT(X)\n");
+    REQUIRE_MESSAGE(c.model, c.sink.render_all());
+    CHECK(print_stage(*c.model, "m.fortu", IrStage::Tape) ==
+          "; m.fortu\n"
+          "; tape (no hoisting)\n"
+          "; 1 operation, 3 slots\n"
+          "s1 = arg X\n"
+          "s2 = sqrt s1\n"
+          "return s2\n");
+}

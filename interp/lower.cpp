@@ -146,6 +146,7 @@ public:
 
     void run(const std::shared_ptr<const SourceFile>& source) {
         included_.insert(loader_.identity(source->path()));
+        including_.push_back({loader_.identity(source->path()), source->path()});
         const int errors_before = sink_.error_count();
         ast::Script script = parse_script(*source, sink_);
         // Syntax errors leave holes in the tree (a definition lost to recovery); checking
@@ -459,6 +460,17 @@ private:
         for (const auto& candidate : candidates) {
             if (!loader_.exists(candidate.string())) continue;
             const std::string key = loader_.identity(candidate.string());
+            // A file that is still being read includes itself, directly or through others:
+            // reading it once more would skip its own definitions below the INCLUDE.
+            const auto open = std::find_if(including_.begin(), including_.end(),
+                                           [&](const IncludedFile& f) { return f.identity == key; });
+            if (open != including_.end()) {
+                std::string chain;
+                for (auto f = open; f != including_.end(); ++f) chain += f->path + " -> ";
+                sink_.error(statement.range, fmt::format("INCLUDE cycle: {}{}", chain, open->path));
+                syntax_errors_ = true;  // stop: what follows would only echo it
+                return;
+            }
             if (included_.count(key)) return;  // each file once: includes are libraries
             std::string error;
             auto source = loader_.load_script(candidate.string(), error);
@@ -475,7 +487,9 @@ private:
                 return;
             }
             included_scripts_.push_back(std::move(script));
+            including_.push_back({key, source->path()});
             lower_block(included_scripts_.back().statements, scope);
+            including_.pop_back();
             return;
         }
         std::string searched;
@@ -812,6 +826,12 @@ private:
     std::optional<std::array<double, 4>> rectangle_;
     std::set<std::string> noted_;
     std::set<std::string> included_;
+    /// The files being read, the main script first, each INCLUDE'd by the one before it.
+    struct IncludedFile {
+        std::string identity;
+        std::string path;
+    };
+    std::vector<IncludedFile> including_;
     std::vector<ast::Script> included_scripts_;
     std::vector<const ast::FunctionDef*> active_calls_;
 };

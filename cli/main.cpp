@@ -167,7 +167,8 @@ int command_singular(const CliOptions& o) {
     CliOptions search = o;
     if (search.size.empty()) search.size = {model->dims() == 3 ? 48 : 401};
     const Grid grid = make_grid(*model, search);
-    const std::vector<SingularPoint> points = find_singular_points(*model, grid);
+    const SingularSet singular = find_singular_set(*model, grid);
+    const std::vector<SingularPoint>& points = singular.points;
     std::cout << fmt::format("{}: {} singular point{} (K = 0 and R = 0) in x [{}, {}], y [{}, {}]{}\n",
                              o.positional[0], points.size(), points.size() == 1 ? "" : "s", grid.x.min,
                              grid.x.max, grid.y.min, grid.y.max,
@@ -177,6 +178,10 @@ int command_singular(const CliOptions& o) {
         else std::cout << fmt::format("({}, {})", s.point[0], s.point[1]);
         std::cout << fmt::format("  corner of {} R-operation{}\n", s.operations, s.operations == 1 ? "" : "s");
     }
+    for (const SingularCurve& c : singular.curves)
+        std::cout << fmt::format("curve through ({}, {}): the singular set is a curve there (an R-operation's "
+                                 "operands vanish together along it, {} search cells; K = 0 and R = 0 all along)\n",
+                                 c.point[0], c.point[1], c.cells);
     if (!o.output.empty()) {
         OutputOptions out;
         if (o.slice) out.slice = *o.slice;

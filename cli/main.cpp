@@ -5,6 +5,7 @@
 #include "cli/cli_options.hpp"
 #include "cli/commands.hpp"
 #include "cli/data_paths.hpp"
+#include "cli/point_report.hpp"
 
 #include "grammar/diagnostic.hpp"
 #include "interp/classic_cost.hpp"
@@ -134,29 +135,7 @@ int command_eval(const CliOptions& o) {
     if (!classic_within_budget(*model, o, 1.0 + model->dims())) return kExitUsage;
 
     const std::unique_ptr<Engine> engine = o.engine->tuned(o.engine_settings);
-    const PointValue v = evaluate_point(*model, p, *engine);
-    // The M-image normal: the plane through the point and its forward neighbours one grid
-    // step away (the grid run would use), fv-method.md §1.
-    const Grid grid = make_grid(*model, o);
-    const double h[3] = {grid.x.step() > 0 ? grid.x.step() : 1.0, grid.y.step() > 0 ? grid.y.step() : 1.0,
-                         grid.z.step() > 0 ? grid.z.step() : 1.0};
-    auto value_at = [&](double dx, double dy, double dz) {
-        return evaluate_point(*model, {p[0] + dx, p[1] + dy, p[2] + dz}, *engine).value;
-    };
-    std::cout << fmt::format("value: {}\n", v.value);
-    if (model->dims() == 3) {
-        std::cout << fmt::format("gradient: {} {} {}\n", v.gradient[0], v.gradient[1], v.gradient[2]);
-        auto n = fv_hyperplane({p[0], p[1], p[2], v.value}, {p[0] + h[0], p[1], p[2], value_at(h[0], 0, 0)},
-                               {p[0], p[1] + h[1], p[2], value_at(0, h[1], 0)},
-                               {p[0], p[1], p[2] + h[2], value_at(0, 0, h[2])});
-        std::cout << fmt::format("normal: {} {} {} {} {}\n", n[0], n[1], n[2], n[3], n[4]);
-    } else {
-        std::cout << fmt::format("gradient: {} {}\n", v.gradient[0], v.gradient[1]);
-        auto n = fv_plane({p[0], p[1], v.value}, {p[0] + h[0], p[1], value_at(h[0], 0, 0)},
-                          {p[0], p[1] + h[1], value_at(0, h[1], 0)});
-        std::cout << fmt::format("normal: {} {} {} {}\n", n[0], n[1], n[2], n[3]);
-    }
-    std::cout << fmt::format("inside: {}\n", v.value > 0 ? "yes" : v.value == 0 ? "boundary" : std::isfinite(v.value) ? "no" : "invalid");
+    std::cout << point_report(*model, p, *engine, make_grid(*model, o));
     return 0;
 }
 
@@ -167,7 +146,8 @@ int command_singular(const CliOptions& o) {
     CliOptions search = o;
     if (search.size.empty()) search.size = {model->dims() == 3 ? 48 : 401};
     const Grid grid = make_grid(*model, search);
-    const std::vector<SingularPoint> points = find_singular_points(*model, grid);
+    const SingularSet singular = find_singular_set(*model, grid);
+    const std::vector<SingularPoint>& points = singular.points;
     std::cout << fmt::format("{}: {} singular point{} (K = 0 and R = 0) in x [{}, {}], y [{}, {}]{}\n",
                              o.positional[0], points.size(), points.size() == 1 ? "" : "s", grid.x.min,
                              grid.x.max, grid.y.min, grid.y.max,
@@ -177,6 +157,10 @@ int command_singular(const CliOptions& o) {
         else std::cout << fmt::format("({}, {})", s.point[0], s.point[1]);
         std::cout << fmt::format("  corner of {} R-operation{}\n", s.operations, s.operations == 1 ? "" : "s");
     }
+    for (const SingularCurve& c : singular.curves)
+        std::cout << fmt::format("curve through ({}, {}): the singular set is a curve there (an R-operation's "
+                                 "operands vanish together along it, {} search cells; K = 0 and R = 0 all along)\n",
+                                 c.point[0], c.point[1], c.cells);
     if (!o.output.empty()) {
         OutputOptions out;
         if (o.slice) out.slice = *o.slice;

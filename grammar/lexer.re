@@ -229,7 +229,10 @@ bool Lexer::skip_block_comment() {
     const SourceRange opening = token_range();
     bool crossed_newline = false;
     for (const unsigned char* p = cursor_; p < limit_; ++p) {
-        if (*p == '\n') {
+        if (*p == '\r' && p + 1 < limit_ && p[1] == '\n') {
+            continue;   // CRLF: the '\n' ends the line
+        }
+        if (*p == '\n' || *p == '\r') {
             start_line(p + 1);
             crossed_newline = true;
         } else if (*p == '*' && p + 1 < limit_ && p[1] == '/') {
@@ -301,11 +304,13 @@ Token Lexer::scan_token() {
         // exponent: `1e`, `1.5e+`, `2.5.3`, `3x`. Longer than `number`, so it wins then.
         bad_number = (digits | "." digits) ([0-9a-zA-Z_.] | [eEdD] [+-])*;
         name       = [a-zA-Z_] [a-zA-Z0-9_]*;
+        // LF (Unix), CRLF (Windows) and a lone CR (classic Mac OS) each end a line.
+        newline    = "\r\n" | "\n" | "\r";
 
         $                   { return Parser::make_YYEOF(token_range()); }
-        "\r"? "\n"          { start_line(cursor_); return Parser::make_EOL(SourceRange{}); }
-        [ \t\v\f\r]+        { continue; }
-        "//" [^\n]*         { continue; }
+        newline             { start_line(cursor_); return Parser::make_EOL(SourceRange{}); }
+        [ \t\v\f]+         { continue; }
+        "//" [^\r\n]*       { continue; }
         "/*"                { // A comment over a line break ends the line, as a newline would.
                               if (skip_block_comment()) return Parser::make_EOL(SourceRange{});
                               continue; }
@@ -325,8 +330,8 @@ Token Lexer::scan_token() {
         number              { return number(lexeme()); }
         bad_number          { bad_number(); return Parser::make_NUMBER(0.0, token_range()); }
         name                { return Parser::make_NAME(std::string(lexeme()), token_range()); }
-        ['] [^'\n]* [']     { return string_literal(); }
-        ["] [^"\n]* ["]     { return string_literal(); }
+        ['] [^'\r\n]* [']   { return string_literal(); }
+        ["] [^"\r\n]* ["]   { return string_literal(); }
         ['"]                { return unterminated_string(); }
 
         "+"                 { return Parser::make_PLUS(token_range()); }

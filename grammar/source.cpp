@@ -1,5 +1,6 @@
 // grammar/source.cpp — SourceFile: a script's bytes, loaded verbatim, and its line table.
-// Lines end at '\n'; a '\r' before it (files edited on Windows) is not part of the line.
+// Lines end at LF, CRLF (Windows) or a lone CR (classic Mac OS), as in the lexer; the
+// terminator is not part of the line.
 #include "grammar/source.hpp"
 
 #include <cerrno>
@@ -16,7 +17,9 @@ SourceFile::SourceFile(std::string path, std::string text)
     // An empty file still has one (empty) line, so every position has a line to show.
     line_starts_.push_back(0);
     for (size_t i = 0; i < text_.size(); ++i) {
-        if (text_[i] == '\n' && i + 1 < text_.size()) {
+        const bool crlf = text_[i] == '\r' && i + 1 < text_.size() && text_[i + 1] == '\n';
+        const bool ends_line = (text_[i] == '\n' || text_[i] == '\r') && !crlf;
+        if (ends_line && i + 1 < text_.size()) {
             line_starts_.push_back(static_cast<uint32_t>(i + 1));
         }
     }
@@ -62,12 +65,9 @@ std::string_view SourceFile::line(int line) const {
         return {};
     }
     const size_t begin = line_starts_[static_cast<size_t>(line - 1)];
-    size_t end = text_.find('\n', begin);
+    size_t end = text_.find_first_of("\r\n", begin);
     if (end == std::string::npos) {
         end = text_.size();
-    }
-    if (end > begin && text_[end - 1] == '\r') {
-        --end;
     }
     return std::string_view(text_).substr(begin, end - begin);
 }

@@ -9,6 +9,8 @@
 #include <algorithm>
 #include <cctype>
 #include <climits>
+#include <cstdint>
+#include <deque>
 #include <cmath>
 #include <filesystem>
 #include <fmt/format.h>
@@ -83,6 +85,14 @@ std::string plural(int n, const char* word) {
 
 // ---- scope --------------------------------------------------------------------------
 
+class Scope;
+
+/// A point in one scope's history: the names defined there up to it.
+struct ScopeMark {
+    const Scope* scope = nullptr;
+    std::uint64_t version = UINT64_MAX;   ///< UINT64_MAX: everything defined so far
+};
+
 struct Binding {
     enum class Kind { Argument, Constant, Variable, Array, Function };
     Kind kind = Kind::Variable;
@@ -91,6 +101,7 @@ struct Binding {
     NodeId node = ir::kNoNode;
     std::vector<double> array;
     const ast::FunctionDef* function = nullptr;
+    ScopeMark written_at;   ///< Function: where it is written, the names its body sees
 };
 
 const char* kind_word(Binding::Kind kind) {
@@ -104,34 +115,54 @@ const char* kind_word(Binding::Kind kind) {
     return "name";
 }
 
-/// Names in force at one point of the script. Re-definition replaces a binding (SSA
-/// renaming: each use sees the latest definition before it). Function calls push a child
-/// scope for parameters and local definitions.
+/// Names in force at one point of the script. Re-definition shadows a binding (SSA
+/// renaming: each use sees the latest definition before it). A function body is a use at
+/// its own place in the text (lexical binding, spec §2): a FUNCTION records that place (a
+/// ScopeMark) and its calls see the names in force there, not at the call; so a binding a
+/// function written since may still see is kept when its name is re-defined, and only then.
+/// Function calls push a child scope for parameters and local definitions, whose parent is
+/// the function's mark.
 class Scope {
 public:
-    explicit Scope(const Scope* parent = nullptr) : parent_(parent) {}
+    explicit Scope(ScopeMark parent = {}) : parent_(parent) {}
 
     void define(Binding binding) {
         const std::string key = binding.name;
-        folded_[lower_case(key)].insert(key);
-        bindings_[key] = std::move(binding);
+        ++version_;
+        folded_[lower_case(key)].emplace(key, version_);   // keeps the first version of a spelling
+        if (binding.kind == Binding::Kind::Function) {
+            binding.written_at = ScopeMark{this, version_};   // sees itself: recursion is reported as such
+            marked_ = version_;
+        }
+        std::deque<Versioned>& history = bindings_[key];   // a deque: bindings never move
+        if (!history.empty() && history.back().version > marked_) history.pop_back();   // no function saw it
+        history.push_back(Versioned{version_, std::move(binding)});
     }
-    bool top_level() const { return parent_ == nullptr; }
-    const Binding* exact(const std::string& name) const {
-        if (auto it = bindings_.find(name); it != bindings_.end()) return &it->second;
-        return parent_ ? parent_->exact(name) : nullptr;
+    bool top_level() const { return parent_.scope == nullptr; }
+    const Binding* exact(const std::string& name, std::uint64_t up_to = UINT64_MAX) const {
+        if (auto it = bindings_.find(name); it != bindings_.end())
+            for (auto v = it->second.rbegin(); v != it->second.rend(); ++v)
+                if (v->version <= up_to) return &v->binding;
+        return parent_.scope ? parent_.scope->exact(name, parent_.version) : nullptr;
     }
     /// Distinct spellings, in this scope and its parents, equal to `name` ignoring case.
-    void case_matches(const std::string& name, std::set<std::string>& out) const {
+    void case_matches(const std::string& name, std::set<std::string>& out, std::uint64_t up_to = UINT64_MAX) const {
         if (auto it = folded_.find(lower_case(name)); it != folded_.end())
-            out.insert(it->second.begin(), it->second.end());
-        if (parent_) parent_->case_matches(name, out);
+            for (const auto& [spelling, first] : it->second)
+                if (first <= up_to) out.insert(spelling);
+        if (parent_.scope) parent_.scope->case_matches(name, out, parent_.version);
     }
 
 private:
-    const Scope* parent_;
-    std::unordered_map<std::string, Binding> bindings_;
-    std::unordered_map<std::string, std::set<std::string>> folded_;
+    struct Versioned {
+        std::uint64_t version;
+        Binding binding;
+    };
+    ScopeMark parent_;
+    std::uint64_t version_ = 0;   ///< of the latest definition
+    std::uint64_t marked_ = 0;    ///< of the latest FUNCTION
+    std::unordered_map<std::string, std::deque<Versioned>> bindings_;
+    std::unordered_map<std::string, std::map<std::string, std::uint64_t>> folded_;
 };
 
 // ---- the lowering pass ----------------------------------------------------------------
@@ -146,6 +177,7 @@ public:
 
     void run(const std::shared_ptr<const SourceFile>& source) {
         included_.insert(loader_.identity(source->path()));
+        including_.push_back({loader_.identity(source->path()), source->path()});
         const int errors_before = sink_.error_count();
         ast::Script script = parse_script(*source, sink_);
         // Syntax errors leave holes in the tree (a definition lost to recovery); checking
@@ -459,6 +491,17 @@ private:
         for (const auto& candidate : candidates) {
             if (!loader_.exists(candidate.string())) continue;
             const std::string key = loader_.identity(candidate.string());
+            // A file that is still being read includes itself, directly or through others:
+            // reading it once more would skip its own definitions below the INCLUDE.
+            const auto open = std::find_if(including_.begin(), including_.end(),
+                                           [&](const IncludedFile& f) { return f.identity == key; });
+            if (open != including_.end()) {
+                std::string chain;
+                for (auto f = open; f != including_.end(); ++f) chain += f->path + " -> ";
+                sink_.error(statement.range, fmt::format("INCLUDE cycle: {}{}", chain, open->path));
+                syntax_errors_ = true;  // stop: what follows would only echo it
+                return;
+            }
             if (included_.count(key)) return;  // each file once: includes are libraries
             std::string error;
             auto source = loader_.load_script(candidate.string(), error);
@@ -475,7 +518,9 @@ private:
                 return;
             }
             included_scripts_.push_back(std::move(script));
+            including_.push_back({key, source->path()});
             lower_block(included_scripts_.back().statements, scope);
+            including_.pop_back();
             return;
         }
         std::string searched;
@@ -736,7 +781,7 @@ private:
                         "functions are inlined; repeat work with a FOR loop instead");
             return poison();
         }
-        Scope local(&scope);
+        Scope local(b.written_at);   // the body sees the names where it is written, not here
         for (std::size_t i = 0; i < def.params.size(); ++i) {
             Binding p;
             p.kind = Binding::Kind::Variable;
@@ -812,6 +857,12 @@ private:
     std::optional<std::array<double, 4>> rectangle_;
     std::set<std::string> noted_;
     std::set<std::string> included_;
+    /// The files being read, the main script first, each INCLUDE'd by the one before it.
+    struct IncludedFile {
+        std::string identity;
+        std::string path;
+    };
+    std::vector<IncludedFile> including_;
     std::vector<ast::Script> included_scripts_;
     std::vector<const ast::FunctionDef*> active_calls_;
 };

@@ -229,6 +229,7 @@ SubmitResult Session::submit(const std::string& text, const std::string& origin)
 
     std::vector<Entry> entries = entries_;
     std::vector<std::string> changes;
+    std::vector<std::string> replaced_functions;
     std::string section = section_;
     auto replace_or_append = [&](Entry e, bool replace) {
         for (Entry& old : entries) {
@@ -274,7 +275,9 @@ SubmitResult Session::submit(const std::string& text, const std::string& origin)
                 } else if constexpr (std::is_same_v<T, ast::FunctionDef>) {
                     e.kind = K::Function;
                     e.name = node.name;
-                    changes.push_back(fmt::format("{} {}", replace_or_append(std::move(e), true) ? "replaced" : "defined", node.name));
+                    const bool replaced = replace_or_append(std::move(e), true);
+                    if (replaced) replaced_functions.push_back(node.name);
+                    changes.push_back(fmt::format("{} {}", replaced ? "replaced" : "defined", node.name));
                 } else if constexpr (std::is_same_v<T, ast::IncludeStmt>) {
                     e.kind = K::Include;
                     e.name = node.path;
@@ -309,10 +312,31 @@ SubmitResult Session::submit(const std::string& text, const std::string& origin)
         bool retry = false;
         for (Entry& e : entries)
             if (e.inferred && e.keyword == "CONSTANT") { e.keyword = "VARIABLE"; retry = true; }
-        if (!retry) return r;
-        r = *try_compile(entries, nullptr, file.get(), model);
-        if (r.kind == Kind::Error) return r;
+        if (retry) r = *try_compile(entries, nullptr, file.get(), model);
     }
+    if (r.kind == Kind::Error && !replaced_functions.empty()) {
+        // A function body sees only what is written before it (lexical binding), so a new
+        // body using names defined after the old one's place cannot stay there: it moves to
+        // the end, where it sees every definition (what used the old one after its place
+        // then reports it unknown, as a file written in that order would).
+        std::vector<Entry> moved = entries;
+        for (const std::string& name : replaced_functions) {
+            const auto it = std::find_if(moved.begin(), moved.end(),
+                                         [&](const Entry& e) { return e.kind == K::Function && e.name == name; });
+            if (it == moved.end()) continue;
+            Entry function = std::move(*it);
+            moved.erase(it);
+            moved.push_back(std::move(function));
+        }
+        std::optional<Model> moved_model;
+        SubmitResult moved_result = *try_compile(moved, nullptr, file.get(), moved_model);
+        if (moved_result.kind != Kind::Error) {
+            entries = std::move(moved);
+            model = std::move(moved_model);
+            r = std::move(moved_result);
+        }
+    }
+    if (r.kind == Kind::Error) return r;
     for (Entry& e : entries) e.inferred = false;
     entries_ = std::move(entries);
     section_ = section;

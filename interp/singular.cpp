@@ -35,6 +35,15 @@ bool changes_sign(const double* v, int n) {
     return std::isfinite(v[0]) && lo <= 0 && hi >= 0;
 }
 
+/// refine() stops once |φ| + |ψ| is within this fraction of the operands' scale.
+constexpr double kResidualTolerance = 1e-13;
+/// How far apart two converged points must be to be told apart. Where the two boundaries
+/// cross, the residual grows linearly with the distance and points land ~1e-13 apart; where
+/// they touch (Y & (Y - X^2) at the origin) it grows with the distance's square, so a
+/// residual within kResidualTolerance only places the point within its square root (~3e-7)
+/// and seeds from neighbouring cells stop at different points that close.
+const double kPositionTolerance = 4 * std::sqrt(kResidualTolerance);
+
 /// Newton's method on F = (φ, ψ) = 0 from p. 2D: the 2×2 system; 3D: the minimum-norm
 /// Gauss–Newton step onto the curve φ = ψ = 0. Returns false when it does not converge.
 bool refine(const PointEvaluator& phi, const PointEvaluator& psi, int dims, std::array<double, 3>& p,
@@ -43,7 +52,7 @@ bool refine(const PointEvaluator& phi, const PointEvaluator& psi, int dims, std:
         const PointValue a = phi(p), b = psi(p);
         if (!std::isfinite(a.value) || !std::isfinite(b.value)) return false;
         const double residual = std::fabs(a.value) + std::fabs(b.value);
-        if (residual <= 1e-13 * (scale_of(a) + scale_of(b)) * std::max(1.0, scale)) return true;
+        if (residual <= kResidualTolerance * (scale_of(a) + scale_of(b)) * std::max(1.0, scale)) return true;
         // J J^T (2x2) for 3D; J itself for 2D. Solve for the step.
         const auto& ga = a.gradient;
         const auto& gb = b.gradient;
@@ -69,6 +78,33 @@ bool refine(const PointEvaluator& phi, const PointEvaluator& psi, int dims, std:
     return false;
 }
 
+/// 2D: whether φ and ψ vanish together along a curve through the seed cell at p: p taken
+/// onto φ = 0 by Newton's method on φ alone, ψ vanishes there too and the two gradients are
+/// parallel (where two boundaries cross or touch at an isolated point, the projection of a
+/// cell's centre misses the point, so ψ does not vanish there, or the gradients are not
+/// parallel). On success p is the point on the curve.
+bool on_common_curve(const PointEvaluator& phi, const PointEvaluator& psi, std::array<double, 3>& p, double scale) {
+    for (int iteration = 0; iteration < 30; ++iteration) {
+        const PointValue a = phi(p);
+        const double g2 = a.gradient[0] * a.gradient[0] + a.gradient[1] * a.gradient[1];
+        if (!std::isfinite(a.value) || !(g2 > 0)) return false;
+        if (std::fabs(a.value) <= kResidualTolerance * scale_of(a) * std::max(1.0, scale)) break;
+        p[0] -= a.value * a.gradient[0] / g2;
+        p[1] -= a.value * a.gradient[1] / g2;
+    }
+    const PointValue a = phi(p), b = psi(p);
+    if (!std::isfinite(b.value)) return false;
+    const double tolerance = 1e3 * kResidualTolerance * (scale_of(a) + scale_of(b)) * std::max(1.0, scale);
+    if (!(std::fabs(a.value) + std::fabs(b.value) <= tolerance)) return false;
+    const double cross = a.gradient[0] * b.gradient[1] - a.gradient[1] * b.gradient[0];
+    const double norms = std::hypot(a.gradient[0], a.gradient[1]) * std::hypot(b.gradient[0], b.gradient[1]);
+    return norms > 0 && std::fabs(cross) <= 1e-9 * norms;
+}
+
+/// Seed cells a curve must cross to be reported as one: a single cell could be a tangency
+/// met exactly.
+constexpr int kMinCurveCells = 3;
+
 bool inside_box(const Grid& g, const std::array<double, 3>& p, double margin) {
     const Axis* axes[3] = {&g.x, &g.y, &g.z};
     for (int k = 0; k < g.dims; ++k)
@@ -90,16 +126,28 @@ ir::NodeId singular_criterion(Model& model) {
 }
 
 std::vector<SingularPoint> find_singular_points(const Model& model, const Grid& g) {
+    return find_singular_set(model, g).points;
+}
+
+SingularSet find_singular_set(const Model& model, const Grid& g) {
     const int dims = g.dims;
     const double h = std::max({g.x.step(), g.y.step(), dims == 3 ? g.z.step() : 0.0});
     const double extent = std::max({g.x.max - g.x.min, g.y.max - g.y.min, dims == 3 ? g.z.max - g.z.min : 0.0});
     const PointEvaluator model_at(model.graph, model.root);
     std::vector<SingularPoint> found;
 
-    auto add = [&](const std::array<double, 3>& p, double merge_distance) {
-        for (const SingularPoint& s : found)
-            if (std::hypot(s.point[0] - p[0], s.point[1] - p[1], s.point[2] - p[2]) <= merge_distance) return;
+    // Points the solver cannot tell apart are one; of them the one with the least residual
+    // |φ| + |ψ| stands for it in 2D (at a tangency, the nearest to the true point).
+    std::vector<double> residuals;
+    auto add = [&](const std::array<double, 3>& p, double residual, double merge_distance) {
+        for (std::size_t k = 0; k < found.size(); ++k) {
+            const std::array<double, 3>& q = found[k].point;
+            if (std::hypot(q[0] - p[0], q[1] - p[1], q[2] - p[2]) > merge_distance) continue;
+            if (dims == 2 && residual < residuals[k]) found[k].point = p, residuals[k] = residual;
+            return;
+        }
         found.push_back(SingularPoint{p, 0});
+        residuals.push_back(residual);
     };
 
     const std::vector<ir::NodeId> ops = r_operations(model);
@@ -110,7 +158,9 @@ std::vector<SingularPoint> find_singular_points(const Model& model, const Grid& 
     }
     const int corners = dims == 3 ? 8 : 4;
     const int slice_cells = dims == 3 ? g.slices() - 1 : 1;
+    std::vector<SingularCurve> curves;
     for (std::size_t i = 0; i < ops.size(); ++i) {
+        SingularCurve curve;
         const ir::Node& n = model.graph.node(ops[i]);
         const Field phi = evaluate_grid(model.graph, n.args[0], g, default_engine());
         const Field psi = evaluate_grid(model.graph, n.args[1], g, default_engine());
@@ -127,13 +177,25 @@ std::vector<SingularPoint> find_singular_points(const Model& model, const Grid& 
                     if (!changes_sign(a, corners) || !changes_sign(b, corners)) continue;
                     std::array<double, 3> p{g.x_at(c) + g.x.step() / 2, g.y_at(r) - g.y.step() / 2,
                                             dims == 3 ? g.z_at(s) + g.z.step() / 2 : 0.0};
-                    if (!refine(phi_at, psi_at, dims, p, h)) continue;
+                    // R = 0: the point is on the model's boundary, not outside its region.
+                    auto on_boundary = [&](const std::array<double, 3>& q) {
+                        const PointValue r_value = model_at(q);
+                        return std::fabs(r_value.value) <= 1e-9 * scale_of(r_value) * std::max(1.0, h);
+                    };
+                    const std::array<double, 3> seed = p;
+                    if (!refine(phi_at, psi_at, dims, p, h)) {
+                        std::array<double, 3> q = seed;
+                        if (dims == 2 && on_common_curve(phi_at, psi_at, q, h) && inside_box(g, q, 1e-9 * extent) &&
+                            on_boundary(q) && curve.cells++ == 0)
+                            curve.point = q;
+                        continue;
+                    }
                     if (!inside_box(g, p, 1e-9 * extent)) continue;
-                    // R = 0: the corner is on the model's boundary, not outside its region.
-                    const PointValue r_value = model_at(p);
-                    if (!(std::fabs(r_value.value) <= 1e-9 * scale_of(r_value) * std::max(1.0, h))) continue;
-                    add(p, dims == 3 ? h / 2 : 1e-7 * std::max(1.0, extent));
+                    if (!on_boundary(p)) continue;
+                    add(p, std::fabs(phi_at(p).value) + std::fabs(psi_at(p).value),
+                        dims == 3 ? h / 2 : kPositionTolerance * std::max(1.0, extent));
                 }
+        if (curve.cells >= kMinCurveCells) curves.push_back(curve);
     }
     for (SingularPoint& s : found) {
         for (const auto& [phi_at, psi_at] : operands)
@@ -146,7 +208,12 @@ std::vector<SingularPoint> find_singular_points(const Model& model, const Grid& 
     std::sort(found.begin(), found.end(), [](const SingularPoint& a, const SingularPoint& b) {
         return a.point < b.point;
     });
-    return found;
+    for (SingularCurve& c : curves)
+        for (double& v : c.point) {
+            v = std::round(v * 1e12) / 1e12;
+            if (v == 0) v = 0;
+        }
+    return SingularSet{std::move(found), std::move(curves)};
 }
 
 }  // namespace fortu

@@ -22,9 +22,28 @@ struct SingularPoint {
     int operations = 0;              ///< R-operations whose K_i vanishes here
 };
 
+/// A 2D R-operation whose operands vanish together along a whole curve (φ = −ψ there, as in a
+/// disc conjoined with its own complement): K = 0 at every point of it, so it has no isolated
+/// corners to report, and Newton's method, whose Jacobian is singular all along it, finds none.
+struct SingularCurve {
+    std::array<double, 3> point{};   ///< one point on it with R = 0, for the report
+    int cells = 0;                   ///< search-grid cells it crosses
+};
+
+/// What the criterion finds: isolated points and (2D) curves.
+struct SingularSet {
+    std::vector<SingularPoint> points;
+    std::vector<SingularCurve> curves;   ///< non-empty: the singular set is (partly) a curve
+};
+
 /// Singular points of the model on the search grid's box. 2D: isolated points, refined to
-/// ~1e-12. 3D: singular points lie on curves (edges); each seed cell gives one point on its
-/// curve, deduplicated to about half a grid step. Sorted by x, then y, then z.
+/// ~1e-12; points the solver cannot tell apart (closer than its position tolerance, which at
+/// a tangency is the square root of its residual tolerance) are one point; an operation
+/// whose operands share a curve of zeros gives a SingularCurve instead. 3D: singular points
+/// lie on curves (edges); each seed cell gives one point on its curve, deduplicated to about
+/// half a grid step. Points sorted by x, then y, then z.
+SingularSet find_singular_set(const Model& model, const Grid& search_grid);
+/// The points of find_singular_set.
 std::vector<SingularPoint> find_singular_points(const Model& model, const Grid& search_grid);
 
 /// The node K = ∏ (φ_i² + ψ_i²) over the model's R-operations (added to the model's graph);

@@ -311,6 +311,7 @@ Experiment e4_resolution(Context& ctx, const std::string& out_dir, const Experim
     m.budget = std::numeric_limits<double>::infinity();
     std::string rows;
     std::vector<double> pc, tc, pv, tv;
+    std::vector<BenchCell> classic_cells, voxel_cells;
     for (int size : sizes) {
         const Grid grid = bench_grid(*model, size);
         const BenchCell* cells[2] = {nullptr, nullptr};
@@ -325,9 +326,12 @@ Experiment e4_resolution(Context& ctx, const std::string& out_dir, const Experim
             }
             (k == 0 ? pc : pv).push_back(double(grid.points()));
             (k == 0 ? tc : tv).push_back(cells[k]->median);
+            (k == 0 ? classic_cells : voxel_cells).push_back(*cells[k]);
         }
     }
-    const auto fc = fit_line(pc, tc), fv = fit_line(pv, tv);
+    const PointsFit classic_fit = fit_time_per_point(classic_cells), voxel_fit = fit_time_per_point(voxel_cells);
+    const auto& fc = classic_fit.fit;
+    const auto& fv = voxel_fit.fit;
     for (std::size_t i = 0; i < sizes.size(); ++i)
         rows += fmt::format("| {0}x{0} | {1} | {2} | {3} |\n", sizes[i], format_count(std::uint64_t(pc[i])),
                             time_md(e.cells[2 * i]), time_md(e.cells[2 * i + 1]));
@@ -337,20 +341,21 @@ Experiment e4_resolution(Context& ctx, const std::string& out_dir, const Experim
     plot.y_label = "wall time (s)";
     plot.log_x = plot.log_y = true;
     PlotSeries sc{"classic (median)"}, sv{"voxel (median)"};
-    for (std::size_t i = 0; i < pc.size(); ++i) sc.points.emplace_back(pc[i], tc[i]), sv.points.emplace_back(pv[i], tv[i]);
+    for (std::size_t i = 0; i < pc.size(); ++i) {
+        if (!classic_cells[i].skipped) sc.points.emplace_back(pc[i], tc[i]);
+        if (!voxel_cells[i].skipped) sv.points.emplace_back(pv[i], tv[i]);
+    }
     plot.series = {sc, sv};
     write_plot_svg(plot, (std::filesystem::path(out_dir) / "e4_resolution.svg").string());
     e.markdown = "Model s1_fig3a_floz.fortu, both engines.\n\n| grid | points | classic | voxel |\n|---|---|---|---|\n" + rows + "\n";
-    for (auto [name, fit] : {std::pair{"classic", fc}, std::pair{"voxel", fv}})
-        if (fit)
-            e.markdown += fmt::format("- {}: time = {:.1f} ns per point (+ {}), straight-line fit R² {:.4f}\n", name,
-                                      fit->slope * 1e9, format_duration(std::max(0.0, fit->intercept)), fit->r2);
+    e.markdown += points_fit_text("classic", classic_fit) + points_fit_text("voxel", voxel_fit);
     e.markdown += "\n![E4](e4_resolution.svg)\n";
     e.summary_json = fmt::format(
         "{{\"classic_seconds_per_point\": {}, \"classic_fit_r2\": {}, \"voxel_seconds_per_point\": {}, "
-        "\"voxel_fit_r2\": {}}}",
+        "\"voxel_fit_r2\": {}, \"classic_fit_cells\": {}, \"classic_skipped_cells\": {}}}",
         json_number(fc ? fc->slope : std::nan("")), json_number(fc ? fc->r2 : std::nan("")),
-        json_number(fv ? fv->slope : std::nan("")), json_number(fv ? fv->r2 : std::nan("")));
+        json_number(fv ? fv->slope : std::nan("")), json_number(fv ? fv->r2 : std::nan("")),
+        classic_fit.cells - classic_fit.skipped, classic_fit.skipped);
     return e;
 }
 

@@ -257,4 +257,32 @@ std::optional<LinearFit> fit_line(const std::vector<double>& x, const std::vecto
     return f;
 }
 
+PointsFit fit_time_per_point(const std::vector<BenchCell>& cells) {
+    PointsFit out;
+    std::vector<double> points, seconds;
+    for (const BenchCell& c : cells) {
+        ++out.cells;
+        if (c.skipped) {
+            ++out.skipped;
+            continue;
+        }
+        points.push_back(double(c.points()));
+        seconds.push_back(c.median);
+    }
+    out.fit = fit_line(points, seconds);
+    return out;
+}
+
+std::string points_fit_text(const std::string& engine, const PointsFit& fit) {
+    const int measured = fit.cells - fit.skipped;
+    const std::string skipped = fmt::format("{} skipped over budget", fit.skipped);
+    if (!fit.fit)
+        return fmt::format("- {}: no fit: {} of {} sizes measured{}\n", engine, measured, fit.cells,
+                           fit.skipped ? ", " + skipped : "");
+    std::string line = fmt::format("- {}: time = {:.1f} ns per point (+ {}), straight-line fit R² {:.4f}", engine,
+                                   fit.fit->slope * 1e9, format_duration(std::max(0.0, fit.fit->intercept)), fit.fit->r2);
+    if (fit.skipped) line += fmt::format("; fit over {} of {} sizes, {}", measured, fit.cells, skipped);
+    return line + "\n";
+}
+
 }  // namespace fortu

@@ -70,4 +70,18 @@ struct LinearFit {
 /// nullopt with fewer than two points or all x equal.
 std::optional<LinearFit> fit_line(const std::vector<double>& x, const std::vector<double>& y);
 
+/// Median time against grid points over the cells that were measured. A skipped (over-budget)
+/// cell has no time: counted as 0 s it once bent E4's classic line to a negative time per
+/// point, so it leaves the fit and is only counted.
+struct PointsFit {
+    std::optional<LinearFit> fit;   ///< over the measured cells; nullopt with fewer than two
+    int cells = 0;                  ///< cells offered (one per grid size)
+    int skipped = 0;                ///< of them, skipped and left out
+};
+PointsFit fit_time_per_point(const std::vector<BenchCell>& cells);
+/// E4's line for one engine: "- classic: time = 41.9 ns per point (+ 2 ms), straight-line fit
+/// R² 0.9990", then "; fit over 3 of 4 sizes, 1 skipped over budget" when cells were skipped,
+/// or "- classic: no fit: 1 of 4 sizes measured, 3 skipped over budget".
+std::string points_fit_text(const std::string& engine, const PointsFit& fit);
+
 }  // namespace fortu

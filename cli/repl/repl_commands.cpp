@@ -1,7 +1,9 @@
 // cli/repl_commands.cpp — the `:commands` of `fortu repl` and the evaluation of typed FORTU.
-// Outputs follow `fortu eval` / `fortu run -o` exactly (same evaluate_point, fv_plane and
+// Outputs follow `fortu eval` / `fortu run -o` exactly (same point_report, fv_plane and
 // write_field), so what the REPL shows is what the command line gives.
 #include "cli/repl/repl_commands.hpp"
+
+#include "cli/point_report.hpp"
 
 #include "interp/classic_cost.hpp"
 #include "interp/ir_print.hpp"
@@ -229,28 +231,7 @@ void Repl::eval(const std::vector<std::string>& args) {
     }
     if (auto refusal = classic_refusal(*engine_, 1.0 + m.dims())) return error(*refusal);
     probe_ = p;
-    const PointValue v = evaluate_point(m, p, *engine_);
-    // The M-image normal from the forward neighbours one grid step away, as `fortu eval`.
-    const Grid grid = session_.grid();
-    const double h[3] = {grid.x.step() > 0 ? grid.x.step() : 1.0, grid.y.step() > 0 ? grid.y.step() : 1.0,
-                         grid.z.step() > 0 ? grid.z.step() : 1.0};
-    auto value_at = [&](double dx, double dy, double dz) {
-        return evaluate_point(m, {p[0] + dx, p[1] + dy, p[2] + dz}, *engine_).value;
-    };
-    io_.out << fmt::format("value: {}\n", v.value);
-    if (m.dims() == 3) {
-        io_.out << fmt::format("gradient: {} {} {}\n", v.gradient[0], v.gradient[1], v.gradient[2]);
-        auto n = fv_hyperplane({p[0], p[1], p[2], v.value}, {p[0] + h[0], p[1], p[2], value_at(h[0], 0, 0)},
-                               {p[0], p[1] + h[1], p[2], value_at(0, h[1], 0)},
-                               {p[0], p[1], p[2] + h[2], value_at(0, 0, h[2])});
-        io_.out << fmt::format("normal: {} {} {} {} {}\n", n[0], n[1], n[2], n[3], n[4]);
-    } else {
-        io_.out << fmt::format("gradient: {} {}\n", v.gradient[0], v.gradient[1]);
-        auto n = fv_plane({p[0], p[1], v.value}, {p[0] + h[0], p[1], value_at(h[0], 0, 0)},
-                          {p[0], p[1] + h[1], value_at(0, h[1], 0)});
-        io_.out << fmt::format("normal: {} {} {} {}\n", n[0], n[1], n[2], n[3]);
-    }
-    io_.out << fmt::format("inside: {}\n", v.value > 0 ? "yes" : v.value == 0 ? "boundary" : std::isfinite(v.value) ? "no" : "invalid");
+    io_.out << point_report(m, p, *engine_, session_.grid());
 }
 
 void Repl::show() {

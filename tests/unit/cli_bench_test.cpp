@@ -2,6 +2,7 @@
 // and CSV documents' structure, an over-budget classic cell kept as skipped with its
 // estimate, the plot, the float32 / sign / M-image variants, and `--performance` without its
 // data. No assertion looks at how long anything took.
+#include "cli/bench/bench_report.hpp"
 #include "cli_support.hpp"
 #include "test_support.hpp"
 
@@ -266,4 +267,35 @@ TEST_CASE("fortu bench --performance: without prospero.vm its rows say Not run, 
     CHECK(count(json, "\"status\": \"measured\",\n      \"met\": null,\n      \"reason\": null,\n      \"cell\": {") == 5);
     CHECK(count(json, "\"mimages\": true,") == 2);
     CHECK(count(json, "\"median_mimages_seconds\": ") == 2);
+}
+
+TEST_CASE("E4's fit of time against points leaves a skipped cell out and says so") {
+    using fortu::BenchCell;
+    auto cell = [](int nodes, double median, bool skipped) {
+        BenchCell c;
+        c.grid.x.nodes = c.grid.y.nodes = nodes;
+        c.median = median;   // a skipped cell's median stays 0: it was never run
+        c.skipped = skipped;
+        if (skipped) c.estimated_seconds = 1e6;
+        return c;
+    };
+    // 10 ns per point plus 1 ms; the 800x800 cell was skipped by the deadline.
+    const std::vector<BenchCell> cells{cell(100, 1e-3 + 1e-4, false), cell(200, 1e-3 + 4e-4, false),
+                                       cell(400, 1e-3 + 16e-4, false), cell(800, 0, true)};
+    const fortu::PointsFit fit = fortu::fit_time_per_point(cells);
+    CHECK(fit.cells == 4);
+    CHECK(fit.skipped == 1);
+    REQUIRE(fit.fit);
+    CHECK(fit.fit->points == 3);
+    CHECK(fit.fit->slope == doctest::Approx(1e-8).epsilon(1e-9));
+    CHECK(fit.fit->r2 == doctest::Approx(1.0));
+    CHECK(fortu::points_fit_text("classic", fit) ==
+          "- classic: time = 10.0 ns per point (+ 1.00 ms), straight-line fit R² 1.0000; fit over 3 of 4 sizes, "
+          "1 skipped over budget\n");
+
+    const fortu::PointsFit none = fortu::fit_time_per_point({cells[0], cells[3], cells[3], cells[3]});
+    CHECK_FALSE(none.fit);
+    CHECK(fortu::points_fit_text("classic", none) == "- classic: no fit: 1 of 4 sizes measured, 3 skipped over budget\n");
+    const fortu::PointsFit all = fortu::fit_time_per_point({cells[0], cells[1]});
+    CHECK(fortu::points_fit_text("voxel", all).ends_with("straight-line fit R² 1.0000\n"));
 }

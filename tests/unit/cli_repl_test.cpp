@@ -63,14 +63,14 @@ TEST_CASE("a scripted session: built in steps, probed, changed, saved; fortu run
     CHECK(r.out ==
           "value: 0.5549509756796392\n"
           "gradient: -0.7844645405527362 0\n"
-          "normal: 0.48367098178501616 0.11737271157899065 0.7014307126275634 -0.5101774037905854\n"
+          "normal: n1=0.48367098178501616 n2=0.11737271157899065 n3=0.7014307126275634 n4=-0.5101774037905854\n"
           "inside: yes\n"
           "0.25\n"
           "wrote before.png (64x48)\n"
           "replaced R\n"
           "value: 0.1707106781186547\n"
           "gradient: 0 0\n"
-          "normal: -0.37615228230974446 0.130988311682174 0.9151417240802378 -0.06218639371497618\n"
+          "normal: n1=-0.37615228230974446 n2=0.130988311682174 n3=0.9151417240802378 n4=-0.06218639371497618\n"
           "inside: yes\n"
           "0.04999999999999999\n"
           "saved session.fortu\n"
@@ -95,7 +95,7 @@ TEST_CASE("a scripted session: built in steps, probed, changed, saved; fortu run
     CHECK(again.out == "loaded session.fortu (6 statements)\n"
                        "value: 0.1707106781186547\n"
                        "gradient: 0 0\n"
-                       "normal: -0.37615228230974446 0.130988311682174 0.9151417240802378 -0.06218639371497618\n"
+                       "normal: n1=-0.37615228230974446 n2=0.130988311682174 n3=0.9151417240802378 n4=-0.06218639371497618\n"
                        "inside: yes\n");
 }
 
@@ -170,7 +170,7 @@ TEST_CASE("errors are file diagnostics of the typed line and the session goes on
           "fortu: error: cannot read 'missing.fortu': No such file or directory\n"
           "value: 0\n"
           "gradient: 0 -1\n"
-          "normal: 0.005228365101232297 0.666657554670518 0.666657554670518 -0.333328777335259\n"
+          "normal: n1=0.005228365101232297 n2=0.666657554670518 n3=0.666657554670518 n4=-0.333328777335259\n"
           "inside: boundary\n");
     // Not a terminal: no history file is written.
     CHECK_FALSE(fs::exists(d.path / ".fortu_history"));
@@ -208,7 +208,7 @@ TEST_CASE("blocks over several lines, settings, and a bare expression at the pro
     CHECK(r.out ==
           "value: 0.19999999999999996\n"
           "gradient: -0.6153846153846154 -0.0769230769230771\n"
-          "normal: 0.5037859903140264 0.06318186452848372 0.8118390183144126 -0.28831430124138985\n"
+          "normal: n1=0.5037859903140264 n2=0.06318186452848372 n3=0.8118390183144126 n4=-0.28831430124138985\n"
           "inside: yes\n"
           "6\n"
           "rsystem: MINMAX\n"

@@ -113,6 +113,20 @@ TEST_CASE("eval prints value, exact gradient and the M-image normal") {
     }
 }
 
+TEST_CASE("eval says where the gradient is undefined and labels the normal's components") {
+    TempDir t;
+    const std::string m = quote(t.write("cone.fortu", "ARGUMENT X, Y;\nRETURN 1 - SQRT(X*X + Y*Y);\n"));
+    for (const char* engine : {"voxel", "classic"}) {
+        CAPTURE(engine);
+        auto r = run_fortu("eval " + m + " 0 0 --size 3 --engine " + engine, ".", true);
+        CHECK(r.status == 0);
+        CHECK(r.out == "value: 1\n"
+                       "gradient: undefined (SQRT of 0)\n"
+                       "normal: n1=0.5 n2=0.5 n3=0.5 n4=-0.5\n"
+                       "inside: yes\n");
+    }
+}
+
 namespace {
 
 /// The disc evaluated in this process as `fortu run --size 17` evaluates it.

@@ -46,6 +46,15 @@ TEST_CASE("SourceFile splits lines at newlines and tolerates CRLF") {
         CHECK(file.line(2) == "");
         CHECK(file.line(3) == "b");
     }
+    SUBCASE("a lone CR (classic Mac OS) ends a line; CRLF is one line end") {
+        SourceFile file("a.fortu", "a = 1\rb\r\rc\r\nd");
+        CHECK(file.line_count() == 5);
+        CHECK(file.line(1) == "a = 1");
+        CHECK(file.line(2) == "b");
+        CHECK(file.line(3) == "");
+        CHECK(file.line(4) == "c");
+        CHECK(file.line(5) == "d");
+    }
     SUBCASE("empty file has one empty line") {
         SourceFile file("a.fortu", "");
         CHECK(file.line_count() == 1);

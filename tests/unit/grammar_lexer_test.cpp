@@ -243,6 +243,17 @@ TEST_CASE("newline as a statement terminator (RANOK 2D style)") {
         CHECK(p.errors() == "");
         CHECK(dump(p.script) == "argument X\nvar W = (+ X 1)\nreturn W\n");
     }
+    SUBCASE("CR line ends (classic Mac OS) end a statement as LF does") {
+        Parsed p = parse("ARGUMENT X, Y\rRETURN X\r");
+        CHECK(p.errors() == "");
+        CHECK(dump(p.script) == "argument X Y\nreturn X\n");
+    }
+    SUBCASE("CR line ends: comments, continuation and positions") {
+        Parsed p = parse("ARGUMENT X // the one\r/* two\rlines */ W = X +\r  1\rV = 1 2\rRETURN W");
+        CHECK(p.errors() ==
+              "t.fortu:5:7: error: unexpected number '2', expecting operator, ',', ';' or end of line\n"
+              "V = 1 2\n      ^\nnote: is an operator or a ';' missing before it?\n");
+    }
     SUBCASE("the last statement may end at the end of the file") {
         CHECK(dump(parse("RETURN W").script) == "return W\n");
         CHECK(dump(parse("W = f(x)").script) == "var W = (f x)\n");

@@ -49,7 +49,7 @@ TEST_CASE("a won MIN becomes its operand; a sign-decided R-operand leaves the ot
     const char* model = "ARGUMENT X, Y\nRETURN MIN(X, X + 10) & (0.5 - Y)\n";
     // X < X + 10 everywhere, and X > 0 on the box: sign(X & W) = sign(W).
     CHECK(simplified(model, 0.1, 0.2, 0, 1) ==
-          "; 1 operations, 3 slots\n"
+          "; 1 operation, 3 slots\n"
           "s1 = arg Y\n"
           "s2 = sub 0.5 s1\n"
           "return s2\n");

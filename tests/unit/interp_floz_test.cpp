@@ -214,3 +214,34 @@ TEST_CASE("FLOZ_CONTOUR's cost stays linear in the number of segments") {
     CHECK(n64 - n32 == 2 * (n32 - n16));
     CHECK((n32 - n16) / 16 <= 40);  // per segment: FLOZ2, R0, distance, side, arg-min
 }
+
+TEST_CASE("a repeated vertex (a zero-length edge) is skipped: the values equal the contour's without it") {
+    // Many users close a polygon by writing its first vertex again; the edge between the
+    // copies has no direction, which made every node NaN.
+    const Model closed = compile_with_stdlib("INCLUDE 'floz.fortu'; ARGUMENT X(-5,5), Y(-5,5); "
+                                             "CONSTANT PX=[-3,3,3,-3,-3]; CONSTANT PY=[-3,-3,3,3,-3]; "
+                                             "RETURN FLOZ_CONTOUR(X,Y,PX,PY);");
+    const Field field = evaluate_grid(closed, square_grid(-5, 5, 41), engine_named("voxel"));
+    CHECK(std::count_if(field.values.begin(), field.values.end(), [](double v) { return !std::isfinite(v); }) == 0);
+
+    const std::vector<Point2> square{{-3, -3}, {3, -3}, {3, 3}, {-3, 3}};
+    const std::vector<Point2> closing_repeat{{-3, -3}, {3, -3}, {3, 3}, {-3, 3}, {-3, -3}, {-3, -3}};
+    const std::vector<Point2> written_twice{{-3, -3}, {3, -3}, {3, -3}, {3, 3}, {3, 3}, {3, 3}, {-3, 3}};
+    for (const char* function : {"FLOZ_CONTOUR", "FLOZ_CONTOUR_S1", "FLOZ_POLYGON", "FLOZ_POLYLINE", "FLOZ_CURVE"}) {
+        CAPTURE(function);
+        const Model plain = compile_with_stdlib(polygon_script(function, square));
+        const bool closed_contour = function != std::string("FLOZ_POLYLINE") && function != std::string("FLOZ_CURVE");
+        std::vector<Model> repeats{compile_with_stdlib(polygon_script(function, written_twice))};
+        if (closed_contour) repeats.push_back(compile_with_stdlib(polygon_script(function, closing_repeat)));
+        for (const Model& repeated : repeats)
+            for (const Engine& engine : exact_engines())
+                for (double x = -5; x <= 5; x += 0.625)
+                    for (double y = -5; y <= 5; y += 0.625) {
+                        CAPTURE(x);
+                        CAPTURE(y);
+                        const double expected = at(plain, x, y, 0, engine);
+                        CHECK(std::isfinite(expected));
+                        CHECK(at(repeated, x, y, 0, engine) == expected);
+                    }
+    }
+}

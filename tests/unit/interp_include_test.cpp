@@ -120,3 +120,40 @@ TEST_CASE("IMAGE of a missing picture, or of one too large, is a model error nam
     REQUIRE(huge.sink.diagnostics().size() == 1);
     CHECK(huge.sink.diagnostics()[0].message == "image 'huge.png' is 129x128: at most 16384 pixels");
 }
+
+TEST_CASE("an INCLUDE cycle is an error naming the chain of files") {
+    MemorySourceLoader files;
+    CompileOptions options;
+    options.loader = &files;
+    SUBCASE("a file including itself") {
+        files.add_script("m/a.fortu", "INCLUDE 'a.fortu';\nARGUMENT X, Y;\nRETURN X;\n");
+        Compiled c = compile_text("INCLUDE 'a.fortu';\nARGUMENT X, Y;\nRETURN X;\n", options, "m/a.fortu");
+        CHECK_FALSE(c.model);
+        CHECK(c.sink.render_all() == "m/a.fortu:1:1: error: INCLUDE cycle: m/a.fortu -> m/a.fortu\n"
+                                     "INCLUDE 'a.fortu';\n"
+                                     "^~~~~~~~~~~~~~~~~\n");
+    }
+    SUBCASE("a.fortu -> b.fortu -> a.fortu") {
+        files.add_script("m/a.fortu", "INCLUDE 'b.fortu';\nARGUMENT X, Y;\nRETURN X + B;\n");
+        files.add_script("m/b.fortu", "CONSTANT B = 2;\nINCLUDE 'a.fortu';\n");
+        Compiled c = compile_text("INCLUDE 'b.fortu';\nARGUMENT X, Y;\nRETURN X + B;\n", options, "m/a.fortu");
+        CHECK_FALSE(c.model);
+        CHECK(c.sink.render_all() == "m/b.fortu:2:1: error: INCLUDE cycle: m/a.fortu -> m/b.fortu -> m/a.fortu\n"
+                                     "INCLUDE 'a.fortu';\n"
+                                     "^~~~~~~~~~~~~~~~~\n");
+    }
+}
+
+TEST_CASE("a library reached along two paths that make no cycle is still read once") {
+    // model -> shapes -> rfunc and model -> rfunc: a diamond, not a cycle
+    MemorySourceLoader files;
+    files.add_script("m/rfunc.fortu", "CONSTANT R = 1;");
+    files.add_script("m/shapes.fortu", "INCLUDE 'rfunc.fortu'; CONSTANT S = R * 10;");
+    CompileOptions options;
+    options.loader = &files;
+    Compiled c = compile_text("INCLUDE 'shapes.fortu'; INCLUDE 'rfunc.fortu'; ARGUMENT X, Y; RETURN X + S + R;", options,
+                              "m/model.fortu");
+    REQUIRE_MESSAGE(c.model, c.sink.render_all());
+    CHECK(value_at_origin(c) == 11);
+    CHECK(files.loaded() == std::vector<std::string>{"m/shapes.fortu", "m/rfunc.fortu"});
+}

@@ -52,6 +52,22 @@ TEST_CASE("re-definition: each use sees the latest definition before it") {
     CHECK(value_at("ARGUMENT X; CONSTANT A = 1; VARIABLE A = A + X; RETURN A;", 2) == 3);
 }
 
+TEST_CASE("a FUNCTION body sees the names in force where it is written, not where it is called") {
+    // spec §2: each use sees the latest definition before it; a function body is a use at its
+    // own place in the text (lexical binding).
+    const std::string text = "ARGUMENT X, Y;\nCONSTANT K = 1;\nFUNCTION F(A)\n  RETURN K*A;\nEND\n"
+                             "VARIABLE BEFORE = F(X);\nCONSTANT K = 100;\nVARIABLE AFTER = F(X);\n"
+                             "RETURN BEFORE + 1000*AFTER + K;\n";
+    for (const Engine& engine : exact_engines()) CHECK(value_at(text, 2, 0, 0, engine) == 2 + 1000 * 2 + 100);
+    // the same through a second function, and for a variable re-defined between calls
+    CHECK(value_at("ARGUMENT X, Y; VARIABLE W = X; FUNCTION G(A) RETURN A + W; END; FUNCTION H(A) RETURN G(A) * 10; END;"
+                   "VARIABLE W = 1000; RETURN H(1) + W;", 2) == 1030);
+    // a name defined only after the function is unknown in its body
+    auto c = compile_text("ARGUMENT X, Y;\nFUNCTION F(A)\n  RETURN L*A;\nEND\nCONSTANT L = 2;\nRETURN F(X);\n");
+    CHECK_FALSE(c.model);
+    CHECK(c.sink.render_all() == "test.fortu:3:10: error: unknown name 'L'\n  RETURN L*A;\n         ^\n");
+}
+
 TEST_CASE("built-in functions and PI, case-insensitive; user PI shadows the built-in") {
     CHECK(value_at("ARGUMENT X; RETURN sqrt(16) + Abs(-2) + MIN(3, 1, 2) + max(1, 5);") == 4 + 2 + 1 + 5);
     CHECK(value_at("ARGUMENT X; RETURN pi;") == M_PI);

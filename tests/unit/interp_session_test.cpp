@@ -176,3 +176,27 @@ TEST_CASE("a kept definition under another kept one is not read, nor reported") 
     CHECK(report.computed_operations == 1);
     CHECK(f.values == evaluate_grid(s.model(), s.grid(), engine_named("classic")).values);
 }
+
+TEST_CASE("a FUNCTION sees the definitions written before it; re-defining one in place changes what it sees") {
+    Session s({});
+    s.submit("ARGUMENT X, Y\nCONSTANT K = 1\nFUNCTION F(A)\n  RETURN K*A\nEND\nRETURN F(X + 3)", "<input>");
+    REQUIRE(s.has_model());
+    CHECK(value_at_origin(s) == 3);
+    // K is re-defined in place, before F: F sees the new value (the saved script says so too)
+    CHECK(s.submit("CONSTANT K = 100", "<input>").changes == std::vector<std::string>{"replaced K"});
+    CHECK(value_at_origin(s) == 300);
+    // a new name after F is not seen by F's body
+    CHECK(s.submit("CONSTANT L = 7\nRETURN F(X + 3) + L", "<input>").kind == Kind::Statements);
+    CHECK(value_at_origin(s) == 307);
+}
+
+TEST_CASE("a FUNCTION re-defined with a body using later names moves after them") {
+    Session s({});
+    s.submit("ARGUMENT X, Y\nFUNCTION F(A)\n  RETURN A\nEND\nCONSTANT K = 2\nRETURN F(X + 3)", "<input>");
+    REQUIRE(s.has_model());
+    CHECK(value_at_origin(s) == 3);
+    const SubmitResult r = s.submit("FUNCTION F(A)\n  RETURN K*A\nEND", "<input>");
+    CHECK(r.kind == Kind::Statements);
+    CHECK(r.changes == std::vector<std::string>{"replaced F"});
+    CHECK(value_at_origin(s) == 6);
+}

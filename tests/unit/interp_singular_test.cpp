@@ -81,3 +81,24 @@ TEST_CASE("the box: every singular point lies on an edge, and every edge is foun
     }
     for (int axis = 0; axis < 3; ++axis) CHECK(on_edges_along[axis] >= 4 * 2);  // 4 edges per axis
 }
+
+TEST_CASE("Y & (Y - X^2): where the two boundaries touch, one point, not one per seed") {
+    // Newton converges only linearly at a tangency and stops up to ~6e-7 from the origin.
+    const auto points = points_2d("ARGUMENT X, Y;\nRETURN Y & (Y - X^2);\n");
+    REQUIRE(points.size() == 1);
+    CHECK(std::fabs(points[0][0]) <= 1e-6);
+    CHECK(std::fabs(points[0][1]) <= 1e-6);
+}
+
+TEST_CASE("a disc conjoined with its own complement: the singular set is its circle, reported as a curve") {
+    auto c = compile_text("ARGUMENT X, Y;\nRETURN (0.5 - X^2 - Y^2) & (X^2 + Y^2 - 0.5);\n");
+    REQUIRE_MESSAGE(c.model, c.sink.render_all());
+    const SingularSet set = find_singular_set(*c.model, box(*c.model, 401));
+    CHECK(set.points.empty());
+    REQUIRE(set.curves.size() == 1);
+    CHECK(std::hypot(set.curves[0].point[0], set.curves[0].point[1]) == doctest::Approx(std::sqrt(0.5)).epsilon(1e-9));
+    CHECK(set.curves[0].cells > 100);
+    // crossing boundaries have no curve
+    auto corners = compile_text("ARGUMENT X(-3, 3), Y(-1, 5);\nRETURN (4 - Y) & (Y - X^2);\n");
+    CHECK(find_singular_set(*corners.model, box(*corners.model, 401)).curves.empty());
+}

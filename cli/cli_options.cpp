@@ -174,13 +174,14 @@ void add_run_outputs(OptionTable& t, CliOptions& o) {
 
 struct CommandRow {
     const char* name;
-    const char* usage;
+    const char* synopsis;   ///< what follows `fortu NAME`
+    const char* summary;    ///< one or two lines for the usage texts
     void (*add)(OptionTable&, CliOptions&, EngineChoice&);
 };
 
 /// The commands of this parser (golden, bench and repl have their own, in their folders).
 const CommandRow kCommands[] = {
-    {"run", "usage: fortu run MODEL.fortu [options]\n  evaluate on a grid, write images and data\n",
+    {"run", "MODEL.fortu [options]", "evaluate on a grid, write images and data\n(MODEL may be a Prospero .vm file everywhere)",
      [](OptionTable& t, CliOptions& o, EngineChoice& c) {
          add_grid_options(t, o);
          add_engine_options(t, o, c, true);
@@ -188,15 +189,15 @@ const CommandRow kCommands[] = {
          add_picture_options(t, o);
          add_run_outputs(t, o);
      }},
-    {"eval", "usage: fortu eval MODEL.fortu X Y [Z] [options]\n  value, gradient and M-image normal at a point\n",
+    {"eval", "MODEL.fortu X Y [Z] [options]", "value, gradient and M-image normal at a point",
      [](OptionTable& t, CliOptions& o, EngineChoice& c) {
          add_grid_options(t, o);
          add_engine_options(t, o, c, false);
          add_model_options(t, o);
      }},
-    {"check", "usage: fortu check MODEL.fortu [options]\n  parse and check; diagnostics only\n",
+    {"check", "MODEL.fortu [options]", "parse and check; diagnostics only",
      [](OptionTable& t, CliOptions& o, EngineChoice&) { add_model_options(t, o); }},
-    {"ir", "usage: fortu ir MODEL.fortu [options]\n  print the lowered IR (nodes, sharing, costs)\n",
+    {"ir", "MODEL.fortu [options]", "print the lowered IR (nodes, sharing, costs),\nor with --stage the tape and its hoisted split",
      [](OptionTable& t, CliOptions& o, EngineChoice&) {
          add_model_options(t, o);
          t.option("--stage", "lower|tape|hoist", "the lowered DAG (default), the voxel engine's tape\n"
@@ -207,8 +208,7 @@ const CommandRow kCommands[] = {
                       o.stage = *stage;
                   });
      }},
-    {"singular", "usage: fortu singular MODEL.fortu [options]\n  singular (corner) points: K = 0 and R = 0 "
-                 "(search grid: --size, default 401x401 / 48^3)\n",
+    {"singular", "MODEL.fortu [options]", "singular (corner) points: K = 0 and R = 0\n(search grid: --size, default 401x401 / 48^3)",
      [](OptionTable& t, CliOptions& o, EngineChoice&) {
          add_grid_options(t, o);
          add_model_options(t, o);
@@ -248,9 +248,21 @@ void check_positionals(const CliOptions& o) {
     }
 }
 
+/// `summary`'s lines, each indented by `indent` spaces and ended by a newline.
+std::string summary_lines(std::string_view summary, int indent) {
+    std::string out;
+    for (std::size_t start = 0; start <= summary.size();) {
+        const std::size_t end = std::min(summary.find('\n', start), summary.size());
+        out += fmt::format("{:{}}{}\n", "", indent, summary.substr(start, end - start));
+        start = end + 1;
+    }
+    return out;
+}
+
 /// The option table of `command` filled to write into `o`.
 OptionTable command_table(const CommandRow& command, CliOptions& o, EngineChoice& choice) {
-    OptionTable table(command.name, command.usage);
+    OptionTable table(command.name, fmt::format("usage: fortu {} {}\n{}", command.name, command.synopsis,
+                                                summary_lines(command.summary, 2)));
     command.add(table, o, choice);
     table.positionals(o.positional);
     return table;
@@ -259,26 +271,23 @@ OptionTable command_table(const CommandRow& command, CliOptions& o, EngineChoice
 }  // namespace
 
 std::string usage_text() {
+    constexpr int kSummaryColumn = 44;
+    auto line = [](const std::string& left, std::string_view summary) {
+        const std::string lines = summary_lines(summary, kSummaryColumn);
+        return fmt::format("  {:<{}}{}", left, kSummaryColumn - 2, lines.substr(kSummaryColumn));
+    };
+    std::string text = "fortu — evaluate FORTU R-function models (RANOK scripts) on 2D/3D grids\n\nusage:\n";
+    for (const CommandRow& c : kCommands) text += line(fmt::format("fortu {} {}", c.name, c.synopsis), c.summary);
+    text += line("fortu golden DIR|FILE... [options]", "run golden tests of scripted models");
+    text += line("fortu bench MODEL... [options]", "time the engines; --paper: the papers' experiments;\n"
+                                                    "--performance: the performance suite");
+    text += line("fortu repl [MODEL.fortu]", "interactive session");
+    text += line("fortu help | --help | -h", "this text");
+    text += line("fortu --version | -V", "the version");
+    text += line("fortu COMMAND --help", "that command's options");
     CliOptions unused;
     EngineChoice choice;
-    return R"(fortu — evaluate FORTU R-function models (RANOK scripts) on 2D/3D grids
-
-usage:
-  fortu run   MODEL.fortu [options]      evaluate on a grid, write images and data
-                                         (MODEL may be a Prospero .vm file everywhere)
-  fortu eval  MODEL.fortu X Y [Z]        value, gradient and M-image normal at a point
-  fortu check MODEL.fortu                parse and check; diagnostics only
-  fortu ir    MODEL.fortu                print the lowered IR (nodes, sharing, costs)
-  fortu singular MODEL.fortu [-o F.png]  singular (corner) points: K = 0 and R = 0
-                                         (search grid: --size, default 401x401 / 48^3)
-  fortu golden DIR|FILE...               run golden tests of scripted models
-  fortu bench MODEL... | --paper         time the engines (the papers' comparison)
-  fortu repl [MODEL.fortu]               interactive session
-  fortu help | --help | -h               this text
-  fortu --version | -V                   the version
-  fortu COMMAND --help                   that command's options
-
-run's )" + command_table(*find_command("run"), unused, choice).options_help() +
+    return text + "\nrun's " + command_table(*find_command("run"), unused, choice).options_help() +
            "\nexit status: 0 success, 1 model error (diagnostics printed), 2 usage error\n";
 }
 

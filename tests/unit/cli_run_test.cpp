@@ -86,6 +86,15 @@ TEST_CASE("the option table: --opt=value, each command's --help, --version") {
     CHECK(check_help.out.starts_with("usage: fortu check MODEL.fortu [options]\n"));
     CHECK(check_help.out.find("--rsystem") != std::string::npos);
     CHECK(check_help.out.find("--engine") == std::string::npos);
+    // fortu --help's command list and each command's usage come from the same row.
+    const std::string help = run_fortu("--help", ".", true).out;
+    CHECK(help.find("\n  fortu eval MODEL.fortu X Y [Z] [options]  value, gradient and M-image normal at a point\n") !=
+          std::string::npos);
+    CHECK(run_fortu("eval --help", ".", true).out.starts_with(
+        "usage: fortu eval MODEL.fortu X Y [Z] [options]\n  value, gradient and M-image normal at a point\n"));
+    CHECK(help.find("\n  fortu singular MODEL.fortu [options]      singular (corner) points: K = 0 and R = 0\n"
+                    "                                            (search grid: --size, default 401x401 / 48^3)\n") !=
+          std::string::npos);
     CHECK(run_fortu("--version", ".", true).out == "fortu 0.1.0\n");
     CHECK(run_fortu("-V", ".", true).out == "fortu 0.1.0\n");
     CHECK(run_fortu("repl --help", ".", true).out.starts_with("usage: fortu repl [MODEL.fortu]\n"));

@@ -18,10 +18,8 @@
 namespace fortu {
 namespace {
 
-/// "both|classic|voxel": what --engine and golden-engine take (the exact engines of the table).
-std::string engine_choices() {
-    return "both|" + engine_names("|", "|", [](const EngineCapabilities& can) { return can.exact; });
-}
+/// "both|classic|voxel": what --engine and golden-engine take.
+std::string engine_choices() { return golden_engine_choices("|", "|"); }
 
 std::string golden_usage() {
     return fmt::format("usage: fortu golden DIR|FILE... [--engine {}] [--update] [--jobs N]", engine_choices());
@@ -64,7 +62,7 @@ GoldenCommand parse_golden_arguments(const std::vector<std::string>& args) {
              [&c](const std::string& e) {
                  c.run.engines = parse_golden_engines(e);
                  if (!c.run.engines)
-                     throw UsageError(fmt::format("'fortu golden': --engine '{}' is not {}", e, golden_engine_choices(" or ")));
+                     throw UsageError(fmt::format("'fortu golden': --engine '{}' is not {}", e, golden_engine_choices(", ", " or ")));
              });
     t.option("-j,--jobs", "N", "tests run at a time (default 1); the output order never changes",
              [&c](const std::string& n) {

@@ -281,8 +281,9 @@ std::optional<std::vector<const Engine*>> parse_golden_engines(const std::string
     return std::vector{engine};
 }
 
-std::string golden_engine_choices(const char* last_separator) {
-    return "both, " + engine_names(", ", last_separator, [](const EngineCapabilities& can) { return can.exact; });
+std::string golden_engine_choices(std::string_view separator, std::string_view last_separator) {
+    return "both" + std::string(separator) +
+           engine_names(separator, last_separator, [](const EngineCapabilities& can) { return can.exact; });
 }
 
 std::string apply_directive(GoldenTest& t, const std::string& directive, int line) {
@@ -292,9 +293,9 @@ std::string apply_directive(GoldenTest& t, const std::string& directive, int lin
     const std::string rest = space == std::string::npos ? "" : trim(text.substr(space));
     const std::vector<std::string> args = words(rest);
     if (keyword == "golden-engine") {
-        if (args.size() != 1) return "golden-engine wants one of " + golden_engine_choices(", ");
+        if (args.size() != 1) return "golden-engine wants one of " + golden_engine_choices(", ", ", ");
         if (auto engines = parse_golden_engines(args[0])) t.engines = *engines;
-        else return fmt::format("golden-engine: '{}' is not {}", args[0], golden_engine_choices(" or "));
+        else return fmt::format("golden-engine: '{}' is not {}", args[0], golden_engine_choices(", ", " or "));
         t.engines_given = true;
         return "";
     }

@@ -40,8 +40,9 @@ struct SingularExpectation {
 std::vector<const Engine*> golden_both_engines();
 /// What golden-engine and `fortu golden --engine` take: "both" or an exact engine's name.
 std::optional<std::vector<const Engine*>> parse_golden_engines(const std::string& name);
-/// Those names for messages, the last after `last_separator`: "both, classic or voxel".
-std::string golden_engine_choices(const char* last_separator);
+/// Those names, `separator` between them and `last_separator` before the last:
+/// "both, classic or voxel", "both|classic|voxel".
+std::string golden_engine_choices(std::string_view separator, std::string_view last_separator);
 
 /// One golden test: a script plus what it must produce.
 struct GoldenTest {

@@ -21,31 +21,38 @@ failures=0
 fail() { echo "FAIL: $1"; failures=$((failures + 1)); }
 pass() { echo "ok: $1"; }
 
-# Waits (up to $2 seconds, default 60) until the pane shows text matching the regex $1.
-wait_for() {
-    tries=$(( ${2:-60} * 10 ))
+# Runs "${@:2}" every 0.1 s until it succeeds, for at most $1 seconds: every wait below
+# waits on a condition, never on a fixed sleep, so the test holds under load.
+poll() {
+    tries=$(( $1 * 10 ))
+    shift
     while [ "$tries" -gt 0 ]; do
-        if $T capture-pane -p -S -200 -t repl 2>/dev/null | grep -Eq -- "$1"; then return 0; fi
+        "$@" && return 0
         sleep 0.1
         tries=$((tries - 1))
     done
+    return 1
+}
+
+pane() { $T capture-pane -p -S -200 -t repl 2>/dev/null; }
+show_pane() { pane | grep -v '^$' | tail -20; }
+
+# Waits (up to $2 seconds, default 60) until the pane shows text matching the regex $1.
+pane_matches() { pane | grep -Eq -- "$1"; }
+wait_for() {
+    poll "${2:-60}" pane_matches "$1" && return 0
     echo "--- pane after waiting for /$1/:"
-    $T capture-pane -p -S -200 -t repl 2>/dev/null | grep -v '^$' | tail -20
+    show_pane
     return 1
 }
 
 # Waits until the session is idle at an empty prompt right after the line "fortu> $1": it has
 # read that line and finished what it asked for.
+idle_after() { [ "$(pane | grep -v '^$' | tail -2)" = "$(printf 'fortu> %s\nfortu>' "$1")" ]; }
 wait_for_prompt_after() {
-    tries=600
-    while [ "$tries" -gt 0 ]; do
-        last_two=$($T capture-pane -p -S -200 -t repl 2>/dev/null | grep -v '^$' | tail -2)
-        if [ "$last_two" = "$(printf 'fortu> %s\nfortu>' "$1")" ]; then return 0; fi
-        sleep 0.1
-        tries=$((tries - 1))
-    done
+    poll 60 idle_after "$1" && return 0
     echo "--- pane after waiting for the prompt after '$1':"
-    $T capture-pane -p -S -200 -t repl 2>/dev/null | grep -v '^$' | tail -20
+    show_pane
     return 1
 }
 
@@ -54,13 +61,9 @@ cpu_ticks() { awk '{ print $14 + $15 }' "/proc/$(cat "$WORK/fortu.pid")/stat" 2>
 
 # Waits until fortu has used $1 more clock ticks of CPU than $2: it is evaluating. Only an
 # evaluation spends CPU time; the prompt waits for input without using any.
+used_cpu() { [ "$(cpu_ticks)" -ge $(( $2 + $1 )) ]; }
 wait_for_cpu() {
-    tries=600
-    while [ "$tries" -gt 0 ]; do
-        [ "$(cpu_ticks)" -ge $(( $2 + $1 )) ] && return 0
-        sleep 0.1
-        tries=$((tries - 1))
-    done
+    poll 60 used_cpu "$1" "$2" && return 0
     echo "--- fortu used only $(( $(cpu_ticks) - $2 )) ticks of CPU"
     return 1
 }

@@ -1,4 +1,4 @@
-// cli/bench.cpp — `fortu bench`: its command line, and the MODEL... mode (each model × engine
+// cli/bench/bench.cpp — `fortu bench`: its command line, and the MODEL... mode (each model × engine
 // × size measured, printed as a table with classic/voxel ratios, optionally written as JSON,
 // CSV and an SVG plot). `--paper` hands over to bench_paper.cpp, `--performance` to
 // bench_performance.cpp.

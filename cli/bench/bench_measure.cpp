@@ -1,4 +1,4 @@
-// cli/bench_measure.cpp — timing one bench cell. Peak memory per cell: the kernel's peak-RSS
+// cli/bench/bench_measure.cpp — timing one bench cell. Peak memory per cell: the kernel's peak-RSS
 // mark (VmHWM) is reset through /proc/self/clear_refs before the cell and read after it, so
 // each cell reports its own peak, not the process's; where that is refused, the process's
 // ru_maxrss growth over the cell is reported instead (memory_method() says which).

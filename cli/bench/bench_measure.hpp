@@ -1,4 +1,4 @@
-// cli/bench_measure.hpp — `fortu bench`'s measuring: loading models (from .fortu/.vm files or
+// cli/bench/bench_measure.hpp — `fortu bench`'s measuring: loading models (from .fortu/.vm files or
 // generated text), the grid of a size, and one cell (model × engine × grid) timed over repeats
 // with its cost per point and peak memory, optionally with the M-images computed after each
 // evaluation. Over-budget classic cells are kept, marked skipped, with their estimated time,

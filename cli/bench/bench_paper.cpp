@@ -1,4 +1,4 @@
-// cli/bench_paper.cpp — the papers' experiments (fv-method.md §4). Each experiment measures
+// cli/bench/bench_paper.cpp — the papers' experiments (fv-method.md §4). Each experiment measures
 // its cells, then renders a Markdown section (our numbers beside the paper's), a JSON object
 // and, for the growth experiments, a plot with least-squares fits: E3 fits ln t = a + n·ln g
 // for classic (the expanded tree doubles with each R0 conjunction, g ≈ 2) and t = a + b·n for

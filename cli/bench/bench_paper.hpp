@@ -1,4 +1,4 @@
-// cli/bench_paper.hpp — `fortu bench --paper`: the papers' timing experiments E1–E5
+// cli/bench/bench_paper.hpp — `fortu bench --paper`: the papers' timing experiments E1–E5
 // (fv-method.md §4) end to end, written as a Markdown report, a JSON document and SVG plots.
 #pragma once
 

@@ -1,4 +1,4 @@
-// cli/bench_performance.cpp — issue 5's suite. Why a fixed suite: the targets and the peers'
+// cli/bench/bench_performance.cpp — issue 5's suite. Why a fixed suite: the targets and the peers'
 // reference figures are for particular models, grids and kinds of work (a sign image, a full
 // field in float32 or float64, a field with its M-images), so one command measures exactly
 // those and prints them beside each other. Every cell is an ordinary bench cell

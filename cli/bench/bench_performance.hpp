@@ -1,4 +1,4 @@
-// cli/bench_performance.hpp — `fortu bench --performance`: issue 5's performance suite
+// cli/bench/bench_performance.hpp — `fortu bench --performance`: issue 5's performance suite
 // (prospero.vm, the 64-segment FLOZ contour, the S1 Fig. 3a FLOZ contour with its M-images)
 // in one command, each row beside its target and the issue's reference figures.
 #pragma once

@@ -1,4 +1,4 @@
-// cli/bench_report.cpp — text, JSON and CSV renderings of bench cells. The JSON is written by
+// cli/bench/bench_report.cpp — text, JSON and CSV renderings of bench cells. The JSON is written by
 // hand (a few fixed shapes) so its key order and number format stay stable across versions.
 #include "cli/bench/bench_report.hpp"
 

@@ -1,4 +1,4 @@
-// cli/bench_report.hpp — `fortu bench`'s reports: the terminal table, the JSON document
+// cli/bench/bench_report.hpp — `fortu bench`'s reports: the terminal table, the JSON document
 // (schema "fortu-bench/1", bench/README.md), the CSV rows, the machine description and the
 // least-squares fits the paper experiments print.
 #pragma once

@@ -1,4 +1,4 @@
-// cli/golden.cpp — `fortu golden DIR|FILE... [--engine both|classic|voxel] [--update]
+// cli/golden/golden.cpp — `fortu golden DIR|FILE... [--engine both|classic|voxel] [--update]
 // [--jobs N]`: collects the tests, runs them (on N threads), and reports one block per test in
 // a stable order and a summary ending `N passed, M failed`, the line CI reads.
 #include "cli/option_table.hpp"

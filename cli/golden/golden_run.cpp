@@ -1,4 +1,4 @@
-// cli/golden_run.cpp — see golden_run.hpp. The model is evaluated once per engine; each
+// cli/golden/golden_run.cpp — see golden_run.hpp. The model is evaluated once per engine; each
 // reference file is compared with that engine's output, so "both" also checks that the two
 // engines agree. New outputs are written to a private temporary folder and only copied beside
 // the test (NAME.actual.EXT, NAME.diff.EXT) when they differ.

@@ -1,4 +1,4 @@
-// cli/golden_run.hpp — running one golden test: compile the script, check its inline
+// cli/golden/golden_run.hpp — running one golden test: compile the script, check its inline
 // expectations and reference files on each engine, and with --update rewrite what failed.
 #pragma once
 

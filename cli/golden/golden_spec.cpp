@@ -1,4 +1,4 @@
-// cli/golden_spec.cpp — see golden_spec.hpp. Directives are parsed strictly: a typo in one
+// cli/golden/golden_spec.cpp — see golden_spec.hpp. Directives are parsed strictly: a typo in one
 // (`expect-valeu`) fails the test rather than silently testing less.
 #include "cli/golden/golden_spec.hpp"
 

@@ -1,4 +1,4 @@
-// cli/golden_spec.hpp — what a golden test expects, read from the directives in its script's
+// cli/golden/golden_spec.hpp — what a golden test expects, read from the directives in its script's
 // comments (`// expect-value 0.25 0.5: 0.734 +- 1e-9`) or in a manifest (`NAME.golden`), and
 // which tests a list of paths names. The syntax is documented in the README ("Golden tests").
 #pragma once

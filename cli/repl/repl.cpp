@@ -1,4 +1,4 @@
-// cli/repl.cpp — `fortu repl [MODEL.fortu]`: the read-evaluate-print loop. Owns what touches
+// cli/repl/repl.cpp — `fortu repl [MODEL.fortu]`: the read-evaluate-print loop. Owns what touches
 // the process (SIGINT, the terminal, the history file); what an input does is repl_commands.
 // On a terminal: prompts, line editing, colour. Otherwise: plain lines in, plain text out.
 #include "cli/commands.hpp"

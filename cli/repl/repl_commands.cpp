@@ -1,4 +1,4 @@
-// cli/repl_commands.cpp — the `:commands` of `fortu repl` and the evaluation of typed FORTU.
+// cli/repl/repl_commands.cpp — the `:commands` of `fortu repl` and the evaluation of typed FORTU.
 // Outputs follow `fortu eval` / `fortu run -o` exactly (same point_report, fv_plane and
 // write_field), so what the REPL shows is what the command line gives.
 #include "cli/repl/repl_commands.hpp"

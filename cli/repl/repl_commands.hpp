@@ -1,4 +1,4 @@
-// cli/repl_commands.hpp — what `fortu repl` does with one complete input: a `:command`, or
+// cli/repl/repl_commands.hpp — what `fortu repl` does with one complete input: a `:command`, or
 // FORTU text handed to the Session (statements join the model, a bare expression is
 // evaluated at the probe point). Kept apart from the input loop so it knows no terminal
 // except through ReplIo.

@@ -1,4 +1,4 @@
-// cli/repl_input.cpp — line input for `fortu repl` through libedit's readline interface.
+// cli/repl/repl_input.cpp — line input for `fortu repl` through libedit's readline interface.
 // History problems (no HOME, unwritable file) are never errors: the session just has none.
 #include "cli/repl/repl_input.hpp"
 

@@ -1,4 +1,4 @@
-// cli/repl_input.hpp — reading `fortu repl` input: libedit line editing with a persistent
+// cli/repl/repl_input.hpp — reading `fortu repl` input: libedit line editing with a persistent
 // history on a terminal, plain lines otherwise (so scripted sessions are deterministic), and
 // the rule for when a multi-line block (FUNCTION ... END, FOR ... END FOR) is complete.
 #pragma once

@@ -240,7 +240,7 @@ int command_run(const CliOptions& o) {
             grid.y.min, grid.y.max, grid.dims == 3 ? fmt::format(", z [{}, {}]", grid.z.min, grid.z.max) : "",
             s.nodes, s.operations, s.shared, s.reuses, format_operations(s.classic_operations),
             format_operations(double(s.operations)),
-            can.known_and_kept && o.engine_settings.hoist ? hoisted_text(s) : "", engine->name(),
+            can.hoists ? hoisted_text(s) : "", engine->name(),
             can.sign_only ? " (interval sign renderer)" : can.float32 ? " (float32)" : "", o.threads > 0 ? o.threads : int(std::max(1u, std::thread::hardware_concurrency())),
             compile_seconds, eval_seconds, write_seconds,
             format_operations(eval_seconds > 0 ? double(grid.points()) / eval_seconds : 0.0),

@@ -56,6 +56,9 @@ struct EngineCapabilities {
     /// Walks the expanded tree (classic_cost.hpp): a run's cost is known before it starts
     /// and refused above --budget.
     bool expanded_tree_cost = false;
+    /// Computes X-only sub-expressions once per grid column and those without X once per
+    /// row on wide grids (hoist.hpp), as `--stats` and `fortu ir --stage hoist` report.
+    bool hoists = false;
 };
 
 /// The voxel engine's number type: float64 (default: values identical to the classic

@@ -235,7 +235,8 @@ std::string_view VoxelEngine::summary() const {
 
 EngineCapabilities VoxelEngine::capabilities() const {
     const bool float32 = options_.precision == Precision::Float32;
-    return {.point = true, .gradients = true, .float32 = float32, .known_and_kept = true, .exact = !float32};
+    return {.point = true, .gradients = true, .float32 = float32, .known_and_kept = true, .exact = !float32,
+            .hoists = options_.hoist};
 }
 
 std::unique_ptr<Engine> VoxelEngine::tuned(const EngineSettings& settings) const {

@@ -65,6 +65,20 @@ TEST_CASE("--help and golden --help list the output formats of the table") {
     }
 }
 
+TEST_CASE("--stats counts the hoisted operations only for an engine that hoists") {
+    TempDir t;
+    const std::string m = quote(t.write("disc.fortu", kDisc));
+    const std::string hoisted = " (3 of them once per grid column or row on a grid of 64+ columns)\n";
+    CHECK(run_fortu("run " + m + " --size 9 --stats", ".", true).out.find("voxel: 4" + hoisted) != std::string::npos);
+    CHECK(run_fortu("run " + m + " --size 9 --stats --precision float32", ".", true).out.find("voxel: 4" + hoisted) !=
+          std::string::npos);
+    for (const char* other : {" --no-hoist", " --engine classic", " --sign-only"}) {
+        CAPTURE(other);
+        const std::string out = run_fortu("run " + m + " --size 9 --stats" + other, ".", true).out;
+        CHECK(out.find("voxel: 4\n") != std::string::npos);
+    }
+}
+
 TEST_CASE("the option table: --opt=value, each command's --help, --version") {
     TempDir t;
     const std::string m = quote(t.write("disc.fortu", kDisc));

@@ -67,13 +67,6 @@ std::array<std::optional<AxisRange>, 3> parse_domain(const std::string& text) {
     return domain;
 }
 
-/// The --engine help: one line per engine of the table.
-std::string engine_help() {
-    std::string text = fmt::format("the engine (default {}):", default_engine().name());
-    for (const Engine* engine : engine_table()) text += fmt::format("\n  {:<12}{}", engine->name(), engine->summary());
-    return text;
-}
-
 int parse_threads(const std::string& s) {
     int threads = 0;
     auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), threads);
@@ -123,7 +116,8 @@ void add_grid_options(OptionTable& t, CliOptions& o) {
 }
 
 void add_engine_options(OptionTable& t, CliOptions& o, EngineChoice& choice, bool grids) {
-    t.option("--engine", "NAME", engine_help(), [&o, &choice](const std::string& e) {
+    const std::string engine_help = fmt::format("the engine (default {}):", default_engine().name()) + engine_summaries();
+    t.option("--engine", "NAME", engine_help, [&o, &choice](const std::string& e) {
         o.engine = find_engine(e);
         if (!o.engine) throw UsageError(fmt::format("--engine: unknown engine '{}' (use {})", e, engine_names(", ", " or ")));
         choice.engine_given = true;

@@ -2,6 +2,8 @@
 // entry points callers use, and the grid a run samples. Knows no engine by name.
 #include "interp/engine.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -33,6 +35,13 @@ std::string engine_names(std::string_view separator, std::string_view last_separ
         if (i > 0) text += i + 1 == names.size() ? last_separator : separator;
         text += names[i];
     }
+    return text;
+}
+
+std::string engine_summaries() {
+    std::string text;
+    for (const Engine* engine : engine_table())
+        text += fmt::format("\n  {:<12}{}", engine->name(), engine->summary());
     return text;
 }
 

@@ -107,6 +107,9 @@ const Engine& engine_named(std::string_view name);
 /// `last_separator` before the last: ("classic, voxel or sign"), ("classic|voxel").
 std::string engine_names(std::string_view separator = ", ", std::string_view last_separator = ", ",
                          const std::function<bool(const EngineCapabilities&)>& filter = {});
+/// One line per engine of the table, each after a newline (`\n  voxel       SUMMARY`), to
+/// close a help text that lists the engines.
+std::string engine_summaries();
 /// The engines whose values must agree (`exact`): what `golden-engine both` runs.
 std::vector<std::reference_wrapper<const Engine>> exact_engines();
 /// The engine fortu uses when none is named.

@@ -32,13 +32,6 @@ constexpr std::string_view kBenchUsage = R"(usage:
                                    (default --out bench-results/perf, --repeat 5)
 )";
 
-/// One line per engine of the table, for --engines' help.
-std::string engine_lines() {
-    std::string lines;
-    for (const Engine* engine : engine_table()) lines += fmt::format("\n  {:<12}{}", engine->name(), engine->summary());
-    return lines;
-}
-
 constexpr int kMaxBenchNodes = 20000;   // per axis; the grid itself is capped by kMaxGridPoints
 
 struct BenchArgs {
@@ -79,7 +72,7 @@ long parse_integer(const std::string& option, const std::string& text, long lo, 
 /// `fortu bench`'s option table, writing into `b`.
 OptionTable bench_options(BenchArgs& b) {
     OptionTable t("bench", std::string(kBenchUsage));
-    t.option("--engines", "E1,E2", "what to time (default classic,voxel), of:" + engine_lines(),
+    t.option("--engines", "E1,E2", "what to time (default classic,voxel), of:" + engine_summaries(),
              [&b](const std::string& list) {
                  b.engines.clear();
                  b.engines_given = true;

@@ -26,20 +26,9 @@ double parse_double(const std::string& text, const std::string& what) {
     return v;
 }
 
-std::vector<std::string> split(const std::string& text, char sep) {
-    std::vector<std::string> parts;
-    std::size_t start = 0;
-    for (;;) {
-        std::size_t at = text.find(sep, start);
-        parts.push_back(text.substr(start, at - start));
-        if (at == std::string::npos) return parts;
-        start = at + 1;
-    }
-}
-
 std::vector<int> parse_size(const std::string& text) {
     std::vector<int> size;
-    for (const std::string& part : split(text, 'x')) {
+    for (const std::string& part : split_value(text, 'x')) {
         long v = 0;
         auto [ptr, ec] = std::from_chars(part.data(), part.data() + part.size(), v);
         if (ec != std::errc() || ptr != part.data() + part.size() || part.empty() || v < 1 || v > 1'000'000)
@@ -53,10 +42,10 @@ std::vector<int> parse_size(const std::string& text) {
 
 std::array<std::optional<AxisRange>, 3> parse_domain(const std::string& text) {
     std::array<std::optional<AxisRange>, 3> domain;
-    const std::vector<std::string> axes = split(text, ',');
+    const std::vector<std::string> axes = split_value(text, ',');
     if (axes.size() > 3) throw UsageError(fmt::format("--domain: '{}' has more than 3 ranges", text));
     for (std::size_t i = 0; i < axes.size(); ++i) {
-        const std::vector<std::string> ends = split(axes[i], ':');
+        const std::vector<std::string> ends = split_value(axes[i], ':');
         if (ends.size() != 2)
             throw UsageError(fmt::format("--domain: '{}' is not a range MIN:MAX (use x0:x1,y0:y1[,z0:z1])", axes[i]));
         AxisRange r{parse_double(ends[0], "--domain"), parse_double(ends[1], "--domain")};

@@ -70,6 +70,16 @@ bool OptionTable::parse(const std::vector<std::string>& args) const {
     return true;
 }
 
+std::vector<std::string> split_value(const std::string& value, char separator) {
+    std::vector<std::string> parts;
+    for (std::size_t start = 0;;) {
+        const std::size_t at = value.find(separator, start);
+        parts.push_back(value.substr(start, at - start));
+        if (at == std::string::npos) return parts;
+        start = at + 1;
+    }
+}
+
 std::string OptionTable::help() const { return usage_ + "\n" + options_help(); }
 
 std::string OptionTable::options_help() const {

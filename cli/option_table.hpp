@@ -20,6 +20,10 @@ struct UsageError : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
+/// An option's value cut at every `separator` ("1,2,3" -> 1 2 3; empty parts kept, so a
+/// stray separator is reported by whoever reads the parts).
+std::vector<std::string> split_value(const std::string& value, char separator);
+
 class OptionTable {
 public:
     /// `command`: "run", "bench"... (for `see fortu COMMAND --help`); `usage`: the text --help

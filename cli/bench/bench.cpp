@@ -48,17 +48,6 @@ struct BenchArgs {
     const char* suite() const { return paper ? "--paper" : performance ? "--performance" : nullptr; }
 };
 
-std::vector<std::string> split(const std::string& text) {
-    std::vector<std::string> parts;
-    std::size_t start = 0;
-    for (;;) {
-        const std::size_t comma = text.find(',', start);
-        parts.push_back(text.substr(start, comma - start));
-        if (comma == std::string::npos) return parts;
-        start = comma + 1;
-    }
-}
-
 long parse_integer(const std::string& option, const std::string& text, long lo, long hi) {
     try {
         std::size_t used = 0;
@@ -76,7 +65,7 @@ OptionTable bench_options(BenchArgs& b) {
              [&b](const std::string& list) {
                  b.engines.clear();
                  b.engines_given = true;
-                 for (const std::string& name : split(list)) {
+                 for (const std::string& name : split_value(list, ',')) {
                      const Engine* engine = find_engine(name);
                      if (!engine) throw UsageError(fmt::format("--engines: unknown engine '{}' ({})", name, engine_names()));
                      b.engines.push_back(engine);
@@ -89,7 +78,7 @@ OptionTable bench_options(BenchArgs& b) {
              [&b](const std::string& list) {
                  b.sizes.clear();
                  b.sizes_given = true;
-                 for (const std::string& n : split(list)) b.sizes.push_back(int(parse_integer("--sizes", n, 2, kMaxBenchNodes)));
+                 for (const std::string& n : split_value(list, ',')) b.sizes.push_back(int(parse_integer("--sizes", n, 2, kMaxBenchNodes)));
              });
     t.option("--repeat", "N", "timed runs per cell (default 3; a cell stops repeating after 20 s)",
              [&b](const std::string& v) {

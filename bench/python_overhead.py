@@ -19,7 +19,7 @@ RUNS = 7
 
 
 def eval_overhead(path):
-    m = fortu.compile(path)
+    m = fortu.compile(path if isinstance(path, str) else Path(path))
     m.eval(0.1, 0.2)
     calls = 200_000
     per_call = [t / calls * 1e6 for t in timeit.repeat(lambda: m.eval(0.1, 0.2), number=calls, repeat=RUNS)]
@@ -27,17 +27,17 @@ def eval_overhead(path):
 
 
 def grid_times(path, size=1024, options=()):
+    """Medians of the Python call and of `fortu run`'s evaluation, runs interleaved so both
+    see the same machine."""
     m = fortu.compile(path)
     kwargs = dict(options)
     m.grid(size=size, **kwargs)
-    python = []
+    flags = [f"--{k}={v}" for k, v in options]
+    python, cli = [], []
     for _ in range(RUNS):
         start = time.perf_counter()
         m.grid(size=size, **kwargs)
         python.append(time.perf_counter() - start)
-    cli = []
-    flags = [f"--{k}={v}" for k, v in options]
-    for _ in range(RUNS):
         out = subprocess.run([BINARY, "run", str(path), "--size", str(size), "--stats", *flags],
                              capture_output=True, text=True, check=True).stdout
         speed = float(re.search(r"speed: ([0-9,]+) points/s", out).group(1).replace(",", ""))
@@ -46,10 +46,14 @@ def grid_times(path, size=1024, options=()):
 
 
 if __name__ == "__main__":
+    print(f"load average before: {open('/proc/loadavg').read().split()[0]}")
+    # RETURN X: nothing to evaluate, so the time is the call's overhead alone.
+    identity = "ARGUMENT X, Y;\nRETURN X;"
+    print(f"1-point eval, RETURN X: {eval_overhead(identity):.2f} µs per call")
     for name in ["circles_or", "s1_fig3a_floz"]:
         print(f"1-point eval, {name}: {eval_overhead(ROOT / 'examples' / f'{name}.fortu'):.2f} µs per call")
-    models = [(ROOT / "examples/s1_fig3a_floz.fortu", ()), (SHARED / "prospero.vm", ()),
-              (SHARED / "prospero.vm", (("precision", "float32"),))]
+    models = [(ROOT / "examples/s1_fig3a_floz.fortu", ()), (ROOT / "examples/s1_fig3a_floz.fortu", (("threads", 1),)),
+              (SHARED / "prospero.vm", ()), (SHARED / "prospero.vm", (("precision", "float32"),))]
     for path, options in models:
         py, cli = grid_times(path, options=options)
         label = path.name + "".join(f" {k}={v}" for k, v in options)

@@ -125,7 +125,7 @@ ModelWrapper::ModelWrapper(std::string text, std::string path, std::vector<std::
     compiled_ = compile_with({}, &warnings_);
 }
 
-std::unique_ptr<ModelWrapper::Compiled> ModelWrapper::compile_with(const ConstantValues& constants,
+std::shared_ptr<const ModelWrapper::Compiled> ModelWrapper::compile_with(const ConstantValues& constants,
                                                                    std::vector<DiagnosticView>* warnings) const {
     DiagnosticSink sink;
     CompileOptions options;
@@ -137,19 +137,19 @@ std::unique_ptr<ModelWrapper::Compiled> ModelWrapper::compile_with(const Constan
     if (!model) raise_fortu_error(sink.diagnostics());
     if (warnings) *warnings = diagnostic_views(sink.diagnostics());
     PointListEvaluator points(model->graph, model->root);
-    return std::unique_ptr<Compiled>(new Compiled{constants, std::move(*model), std::move(points)});
+    return std::make_shared<const Compiled>(Compiled{constants, std::move(*model), std::move(points)});
 }
 
-const ModelWrapper::Compiled& ModelWrapper::with(const ConstantValues& constants) {
-    if (constants.empty()) return *compiled_;
+std::shared_ptr<const ModelWrapper::Compiled> ModelWrapper::with(const ConstantValues& constants) {
+    if (constants.empty()) return compiled_;
     for (auto it = variants_.begin(); it != variants_.end(); ++it) {
         if ((*it)->constants != constants) continue;
         variants_.splice(variants_.begin(), variants_, it);
-        return *variants_.front();
+        return variants_.front();
     }
     variants_.push_front(compile_with(constants, nullptr));
     if (variants_.size() > kKeptVariants) variants_.pop_back();
-    return *variants_.front();
+    return variants_.front();
 }
 
 py::list ModelWrapper::diagnostics() const { return py::cast(warnings_); }
@@ -165,7 +165,8 @@ Grid ModelWrapper::grid_for(const Model& model, py::handle size, py::handle doma
 
 py::object ModelWrapper::eval(const std::vector<py::handle>& coordinates, int threads, std::size_t max_points,
                               const ConstantValues& constants) {
-    const Compiled& c = with(constants);
+    const std::shared_ptr<const Compiled> held = with(constants);
+    const Compiled& c = *held;
     const int dims = static_cast<int>(c.model.arguments.size());
     const int given = static_cast<int>(coordinates.size());
     if (given != std::max(dims, 2) && !(dims == 1 && given == 1))
@@ -196,7 +197,8 @@ py::object ModelWrapper::eval(const std::vector<py::handle>& coordinates, int th
 
 py::array ModelWrapper::gradient(const std::vector<py::handle>& coordinates, std::size_t max_points,
                                  const ConstantValues& constants) {
-    const Compiled& c = with(constants);
+    const std::shared_ptr<const Compiled> held = with(constants);
+    const Compiled& c = *held;
     const int dims = static_cast<int>(c.model.arguments.size());
     const int given = static_cast<int>(coordinates.size());
     if (given != std::max(dims, 2) && !(dims == 1 && given == 1))
@@ -228,7 +230,8 @@ py::array ModelWrapper::gradient(const std::vector<py::handle>& coordinates, std
 
 FieldView ModelWrapper::grid(py::handle size, py::handle domain, const std::string& precision, py::handle engine,
                              int threads, std::size_t max_points, double budget, const ConstantValues& constants) {
-    const Compiled& c = with(constants);
+    const std::shared_ptr<const Compiled> held = with(constants);
+    const Compiled& c = *held;
     std::unique_ptr<Engine> tuned;
     const Engine& chosen = engine_of(engine, precision, tuned);
     const Grid grid = grid_for(c.model, size, domain, max_points);
@@ -250,7 +253,8 @@ FieldView ModelWrapper::grid(py::handle size, py::handle domain, const std::stri
 
 py::array ModelWrapper::mimages(py::handle size, py::handle domain, int threads, std::size_t max_points,
                                 const ConstantValues& constants) {
-    const Compiled& c = with(constants);
+    const std::shared_ptr<const Compiled> held = with(constants);
+    const Compiled& c = *held;
     const Grid grid = grid_for(c.model, size, domain, max_points);
     const int components = grid.dims == 3 ? 5 : 4;
     std::vector<double> out;
@@ -273,7 +277,8 @@ py::array ModelWrapper::mimages(py::handle size, py::handle domain, int threads,
 }
 
 py::array ModelWrapper::singular_points(py::handle size, py::handle domain, const ConstantValues& constants) {
-    const Compiled& c = with(constants);
+    const std::shared_ptr<const Compiled> held = with(constants);
+    const Compiled& c = *held;
     const int dims = c.model.dims();
     const Grid grid = grid_for(c.model, size.is_none() ? py::int_(dims == 3 ? 48 : 401) : size, domain, kDefaultMaxPoints);
     SingularSet found;
@@ -286,13 +291,11 @@ py::array ModelWrapper::singular_points(py::handle size, py::handle domain, cons
 std::string ModelWrapper::ir(const std::string& stage, const ConstantValues& constants) {
     const std::optional<IrStage> parsed = parse_ir_stage(stage);
     if (!parsed) throw py::value_error(fmt::format("stage: '{}' is not lower, tape or hoist", stage));
-    return print_stage(with(constants).model, path(), *parsed);
+    return print_stage(with(constants)->model, path(), *parsed);
 }
 
 py::bytes ModelWrapper::png(const ConstantValues& constants) {
-    const Compiled& c = with(constants);
     FieldView view = grid(py::none(), py::none(), "float64", py::none(), 0, kDefaultMaxPoints, 1e10, constants);
-    (void)c;
     return png_bytes(view.field);
 }
 

@@ -73,8 +73,9 @@ private:
     };
     /// The model with `constants` applied: compiled once per distinct set and kept (the
     /// last few), so a sweep over R recompiles each R once and repeated calls not at all.
-    const Compiled& with(const ConstantValues& constants);
-    std::unique_ptr<Compiled> compile_with(const ConstantValues& constants, std::vector<DiagnosticView>* warnings) const;
+    /// Shared: a call holds it while another thread (the GIL released) may evict it.
+    std::shared_ptr<const Compiled> with(const ConstantValues& constants);
+    std::shared_ptr<const Compiled> compile_with(const ConstantValues& constants, std::vector<DiagnosticView>* warnings) const;
     Grid grid_for(const Model& model, pybind11::handle size, pybind11::handle domain, std::size_t max_points) const;
 
     std::shared_ptr<const SourceFile> source_;
@@ -82,8 +83,8 @@ private:
     std::optional<std::string> rsystem_text_;
     std::optional<RSystem> rsystem_;
     std::vector<DiagnosticView> warnings_;
-    std::unique_ptr<Compiled> compiled_;
-    std::list<std::unique_ptr<Compiled>> variants_;   ///< most recently used first
+    std::shared_ptr<const Compiled> compiled_;
+    std::list<std::shared_ptr<const Compiled>> variants_;   ///< most recently used first
 };
 
 }  // namespace fortu::python

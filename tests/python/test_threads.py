@@ -65,3 +65,27 @@ def test_the_examples_dask_sweep_equals_serial_calls(tmp_path):
     for a, b in zip(swept, serial):
         assert same_bits(a, b)
     assert not same_bits(swept[0], swept[1])   # the parameter reaches the model
+
+
+def test_threads_sharing_a_model_with_different_constants():
+    m = fortu.compile(EXAMPLES / "nested_discs.fortu")
+    expected = {n: m.grid(size=200, N=n).values for n in range(1, 13)}
+    results, errors = {}, []
+
+    def work(offset):
+        try:
+            for k in range(12):
+                n = (k + offset) % 12 + 1   # 12 values, more than the 8 variants kept: evictions while others run
+                results[(offset, k)] = (n, m.grid(size=200, N=n, threads=1).values)
+        except Exception as e:   # noqa: BLE001 - reported below
+            errors.append(e)
+
+    threads = [threading.Thread(target=work, args=(o,)) for o in range(4)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert not errors
+    assert len(results) == 48
+    for n, values in results.values():
+        assert same_bits(values, expected[n])

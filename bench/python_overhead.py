@@ -1,7 +1,7 @@
 # bench/python_overhead.py — what `import fortu` costs over the fortu command: the per-call
 # overhead of a 1-point eval after compile, and a 1024² grid from Python against the same
 # grid in `fortu run` (its `--stats` evaluation time, from its points/s). Medians of several runs.
-#   PYTHONPATH=build/release/python /usr/bin/python3 bench/python_overhead.py [build/release/fortu]
+#   PYTHONPATH=build/release/python /usr/bin/python3 bench/python_overhead.py [build/release/fortu [RUNS]]
 import re
 import statistics
 import subprocess
@@ -33,20 +33,23 @@ def grid_times(path, size=1024, options=()):
     kwargs = dict(options)
     m.grid(size=size, **kwargs)
     flags = [f"--{k}={v}" for k, v in options]
-    python, cli = [], []
+    python, outside, cli = [], [], []
     for _ in range(RUNS):
         start = time.perf_counter()
-        m.grid(size=size, **kwargs)
+        field = m.grid(size=size, **kwargs)
         python.append(time.perf_counter() - start)
+        outside.append(python[-1] - field.seconds)   # the call minus the engine's own time
         out = subprocess.run([BINARY, "run", str(path), "--size", str(size), "--stats", *flags],
                              capture_output=True, text=True, check=True).stdout
         speed = float(re.search(r"speed: ([0-9,]+) points/s", out).group(1).replace(",", ""))
         cli.append(size * size / speed)   # the evaluation time, to more digits than `evaluate`
-    return statistics.median(python), statistics.median(cli)
+    return statistics.median(python), statistics.median(outside), statistics.median(cli)
 
 
 if __name__ == "__main__":
     print(f"load average before: {open('/proc/loadavg').read().split()[0]}")
+    if len(sys.argv) > 2:
+        RUNS = int(sys.argv[2])
     # RETURN X: nothing to evaluate, so the time is the call's overhead alone.
     identity = "ARGUMENT X, Y;\nRETURN X;"
     print(f"1-point eval, RETURN X: {eval_overhead(identity):.2f} µs per call")
@@ -55,6 +58,7 @@ if __name__ == "__main__":
     models = [(ROOT / "examples/s1_fig3a_floz.fortu", ()), (ROOT / "examples/s1_fig3a_floz.fortu", (("threads", 1),)),
               (SHARED / "prospero.vm", ()), (SHARED / "prospero.vm", (("precision", "float32"),))]
     for path, options in models:
-        py, cli = grid_times(path, options=options)
+        py, outside, cli = grid_times(path, options=options)
         label = path.name + "".join(f" {k}={v}" for k, v in options)
-        print(f"1024² {label}: Python {py * 1e3:.1f} ms, fortu run {cli * 1e3:.1f} ms, {100 * (py / cli - 1):+.1f}%")
+        print(f"1024² {label}: Python {py * 1e3:.1f} ms (outside the engine {outside * 1e3:.2f} ms), "
+              f"fortu run {cli * 1e3:.1f} ms, {100 * (py / cli - 1):+.1f}%")

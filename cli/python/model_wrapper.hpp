@@ -33,7 +33,7 @@ struct FieldView {
     bool float32 = false;        ///< computed in float32: `values` is float32
     std::string engine;
     double seconds = 0.0;        ///< evaluation time
-    pybind11::object values;     ///< the ndarray over `field`, made on first use
+    pybind11::object values;     ///< float32: the converted values, made on first use
 };
 
 /// A compiled model (fortu.Model).

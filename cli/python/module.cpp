@@ -95,15 +95,18 @@ std::optional<std::string> rsystem_of(py::handle rsystem) {
     return std::string(py::str(rsystem));
 }
 
+/// A view of the field's values whose base is the Field (no copy); float32 fields convert
+/// once and keep the copy (the view is not kept: Field -> view -> Field would be a cycle
+/// that reference counting never frees).
 py::object field_values(py::object self) {
     FieldView& view = self.cast<FieldView&>();
-    if (!view.values) {
-        const Grid& g = view.field.grid;
-        std::vector<py::ssize_t> shape{g.rows(), g.cols()};
-        if (g.dims == 3) shape.insert(shape.begin(), g.slices());
-        py::array_t<double> values(shape, view.field.values.data(), self);   // a view: `self` keeps it alive
-        view.values = view.float32 ? py::object(values.attr("astype")("float32")) : py::object(values);
-    }
+    if (view.values) return view.values;
+    const Grid& g = view.field.grid;
+    std::vector<py::ssize_t> shape{g.rows(), g.cols()};
+    if (g.dims == 3) shape.insert(shape.begin(), g.slices());
+    py::array_t<double> values(shape, view.field.values.data(), self);
+    if (!view.float32) return values;
+    view.values = values.attr("astype")("float32");
     return view.values;
 }
 
@@ -137,7 +140,7 @@ constants / **R: CONSTANT values for this call (the script's first top-level CON
 The Field has .values, an ndarray in the command line's orientation: shape (rows, cols),
 or (slices, rows, cols) in 3D; values[row, col] is the value at (x[col], y[row]) (and
 values[slice, row, col] at z[slice]), where .x is ascending, .y DESCENDING (row 0 is the
-largest Y, as in the picture) and .z ascending. np.asarray(field) is field.values.)";
+largest Y, as in the picture) and .z ascending. np.asarray(field) gives the same values.)";
 
 }  // namespace
 

@@ -29,10 +29,11 @@ PointArrays::PointArrays(const std::vector<py::handle>& coordinates) {
         operands_.push_back(std::move(op));
     }
     // numpy's own rules and message ("shape mismatch: objects cannot be broadcast ...").
-    static py::object broadcast_shapes = py::module_::import("numpy").attr("broadcast_shapes");
+    // Never destroyed (see errors.cpp's fortu_error_type).
+    static const py::object* broadcast_shapes = new py::object(py::module_::import("numpy").attr("broadcast_shapes"));
     py::list shapes;
     for (const Operand& op : operands_) shapes.append(op.array.attr("shape"));
-    const py::tuple shape = broadcast_shapes(*shapes);
+    const py::tuple shape = (*broadcast_shapes)(*shapes);
     for (py::handle extent : shape) shape_.push_back(extent.cast<py::ssize_t>());
     for (py::ssize_t extent : shape_) points_ *= static_cast<std::size_t>(extent);
     for (Operand& op : operands_) {

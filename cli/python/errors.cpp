@@ -11,8 +11,10 @@ namespace fortu::python {
 namespace {
 
 py::object& fortu_error_type() {
-    static py::object type;   // set once at import; lives as long as the module
-    return type;
+    // Set once at import and never destroyed: a static py::object would be released after
+    // the interpreter is gone, at process exit.
+    static py::object* type = new py::object();
+    return *type;
 }
 
 const char* severity_name(Severity s) {

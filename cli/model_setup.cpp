@@ -12,7 +12,14 @@ namespace fortu {
 
 std::optional<Model> compile_model(std::shared_ptr<const SourceFile> source, const CompileOptions& options,
                                    DiagnosticSink& sink) {
-    if (is_vm_path(source->path())) return import_vm(std::move(source), sink);
+    if (is_vm_path(source->path())) {
+        if (!options.constants.empty()) {   // a .vm model has no CONSTANTs to set
+            sink.error({}, fmt::format("cannot set '{}': a .vm model has no CONSTANT definitions",
+                                       options.constants.front().first));
+            return std::nullopt;
+        }
+        return import_vm(std::move(source), sink);
+    }
     return compile(std::move(source), options, sink);
 }
 

@@ -17,7 +17,8 @@
 
 namespace fortu {
 
-/// A `.fortu` script or, by its path's extension, a `.vm` model (vm_import.hpp).
+/// A `.fortu` script or, by its path's extension, a `.vm` model (vm_import.hpp), which
+/// takes no CompileOptions::constants (an error).
 std::optional<Model> compile_model(std::shared_ptr<const SourceFile> source, const CompileOptions& options,
                                    DiagnosticSink& sink);
 

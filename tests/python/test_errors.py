@@ -84,6 +84,12 @@ def test_a_hundred_million_points_are_refused_before_any_allocation():
         m.mimages(size=10_000)
 
 
+def test_a_vm_model_has_no_constants_to_set(shared_data):
+    m = fortu.compile(shared_data / "prospero.vm")
+    with pytest.raises(fortu.FortuError, match="cannot set 'R': a .vm model has no CONSTANT definitions"):
+        m.eval(0, 0, R=1)
+
+
 def test_classic_budget_is_the_command_lines():
     m = fortu.compile(EXAMPLES / "s1_fig3a_formula.fortu")
     with pytest.raises(ValueError, match="the classic engine would need 3,838 operations per point"):

@@ -5,6 +5,7 @@
 #include "cli/cli_options.hpp"
 #include "cli/commands.hpp"
 #include "cli/data_paths.hpp"
+#include "cli/model_setup.hpp"
 #include "cli/point_report.hpp"
 
 #include "grammar/diagnostic.hpp"
@@ -46,29 +47,14 @@ std::optional<Model> load_model(const CliOptions& o, bool show_notes, double& se
     CompileOptions options;
     options.rsystem = o.rsystem;
     options.include_dirs = stdlib_dirs();
-    std::optional<Model> model = is_vm_path(o.positional[0]) ? import_vm(source, sink) : compile(source, options, sink);
+    std::optional<Model> model = compile_model(source, options, sink);
     for (const Diagnostic& d : sink.diagnostics())
         if (d.severity != Severity::Note || show_notes) std::cerr << render(d);
     seconds = clock.seconds();
     return model;
 }
 
-Grid make_grid(const Model& model, const CliOptions& o) {
-    if (model.dims() == 2 && o.size.size() == 3)
-        throw UsageError(fmt::format("--size: the model has {} argument(s); give N or WxH", model.arguments.size()));
-    const Grid grid = model_grid(model, grid_nodes(model, o.size), o.domain);
-    const double points = double(grid.cols()) * grid.rows() * grid.slices();
-    if (points > double(kMaxGridPoints))
-        throw UsageError(fmt::format("--size: {}x{}{} is {} points, more than the {} fortu allocates",
-                                     grid.cols(), grid.rows(), grid.dims == 3 ? fmt::format("x{}", grid.slices()) : "",
-                                     format_operations(points), format_operations(double(kMaxGridPoints))));
-    return grid;
-}
-
-std::string grid_text(const Grid& g) {
-    return g.dims == 3 ? fmt::format("{}x{}x{}", g.cols(), g.rows(), g.slices())
-                       : fmt::format("{}x{}", g.cols(), g.rows());
-}
+Grid make_grid(const Model& model, const CliOptions& o) { return request_grid(model, o.size, o.domain); }
 
 int command_check(const CliOptions& o) {
     double seconds = 0;
@@ -99,23 +85,10 @@ double parse_coordinate(const std::string& text) {
 
 /// Refuses a classic run whose expanded-tree cost exceeds the budget (unless --force).
 bool classic_within_budget(const Model& model, const CliOptions& o, double points) {
-    if (!o.engine->capabilities().expanded_tree_cost || o.force) return true;
-    const double per_point = classic_operations_per_point(model.graph, model.root);
-    const int depth = dag_depth(model.graph, model.root);
-    if (depth > kClassicMaxDepth) {
-        std::cerr << fmt::format("fortu: error: the model is nested {} levels deep; the classic engine's "
-                                 "recursion stops at {}\nnote: use --engine voxel\n", depth, kClassicMaxDepth);
-        return false;
-    }
-    const double total = per_point * points;
-    if (total <= o.budget) return true;
-    std::cerr << fmt::format(
-        "fortu: error: the classic engine would need {} operations per point x {} points = {} operations "
-        "(budget {})\nnote: use --engine voxel ({} operations per point), a smaller --size, a larger "
-        "--budget, or --force\n",
-        format_operations(per_point), format_operations(points), fmt::format("{:.3g}", total),
-        fmt::format("{:.3g}", o.budget), format_operations(double(ir_stats(model).operations)));
-    return false;
+    if (o.force) return true;
+    const std::optional<std::string> refusal = classic_refusal(model, *o.engine, points, o.budget);
+    if (refusal) std::cerr << fmt::format("fortu: error: {}\n", *refusal);
+    return !refusal;
 }
 
 int command_eval(const CliOptions& o) {

@@ -263,7 +263,9 @@ private:
         }
         const Context context =
             def.section == ast::Section::Constant ? Context::Constant : Context::Variable;
-        NodeId node = lower_expr(*def.value, scope, context);
+        const std::optional<double> given = context == Context::Constant && scope.top_level()
+                                                ? take_constant_override(def.name) : std::nullopt;
+        NodeId node = given ? graph_.constant(*given) : lower_expr(*def.value, scope, context);
         Binding b;
         b.kind = context == Context::Constant ? Binding::Kind::Constant : Binding::Kind::Variable;
         b.name = def.name;
@@ -814,7 +816,21 @@ private:
 
     // -- the end --
 
+    /// The value CompileOptions::constants gives `name`, the first time it is asked for.
+    std::optional<double> take_constant_override(const std::string& name) {
+        for (std::size_t i = 0; i < options_.constants.size(); ++i)
+            if (lower_case(options_.constants[i].first) == lower_case(name) && !overridden_.count(i)) {
+                overridden_.insert(i);
+                return options_.constants[i].second;
+            }
+        return std::nullopt;
+    }
+
     void finish(const SourceFile& source, const ast::Script& script) {
+        for (std::size_t i = 0; i < options_.constants.size(); ++i)
+            if (!overridden_.count(i))
+                sink_.error({}, fmt::format("cannot set '{}': the script has no top-level CONSTANT of that name",
+                                            options_.constants[i].first));
         if (model_.arguments.empty()) {
             sink_.error(script.statements.empty() ? at_start(source) : script.statements.front().range,
                         "script declares no ARGUMENT",
@@ -845,6 +861,7 @@ private:
     Model& model_;
     ir::Graph& graph_;
     Scope global_;
+    std::set<std::size_t> overridden_;   ///< CompileOptions::constants entries already applied
     Binding ambiguous_;
     double alpha_ = 0.0;
     bool return_seen_ = false;

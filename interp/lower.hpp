@@ -15,6 +15,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace fortu {
@@ -27,6 +28,11 @@ struct CompileOptions {
     std::vector<std::string> include_dirs;
     /// Reads INCLUDE'd scripts and IMAGE pictures; nullptr = from disk (disk_source_loader()).
     const SourceLoader* loader = nullptr;
+    /// Values that replace top-level scalar CONSTANT definitions, by name (case-insensitive):
+    /// the first definition of each is lowered as that number instead of its expression, so
+    /// everything computed from it folds as if the script had been written with it (the
+    /// Python module's per-call constants). A name no such definition has is an error.
+    std::vector<std::pair<std::string, double>> constants;
 };
 
 /// Parses, checks and lowers a script. Errors, warnings and notes go to `sink`; returns

@@ -19,8 +19,8 @@ struct Loaded {
     std::string error;
 };
 
-/// Next to the binary, then where the build put it (tests run from other folders), then
-/// $FORTU_IMAGE_MODULE.
+/// $FORTU_IMAGE_MODULE, next to the binary, next to the shared object this code is linked
+/// into (the installed Python module), then where the build put it (tests run from other folders).
 Loaded load_module() {
     std::vector<std::string> candidates;
     if (const char* env = std::getenv("FORTU_IMAGE_MODULE")) candidates.emplace_back(env);
@@ -30,6 +30,9 @@ Loaded load_module() {
         candidates.push_back((exe.parent_path() / kModuleName).string());
         candidates.push_back((exe.parent_path().parent_path() / kModuleName).string());
     }
+    Dl_info self{};
+    if (dladdr(reinterpret_cast<void*>(&load_module), &self) && self.dli_fname)
+        candidates.push_back((std::filesystem::path(self.dli_fname).parent_path() / kModuleName).string());
     if (*FORTU_IMAGE_MODULE_BUILD_PATH) candidates.emplace_back(FORTU_IMAGE_MODULE_BUILD_PATH);
     Loaded result;
     for (const std::string& path : candidates) {

@@ -1,0 +1,56 @@
+// cli/python/arrays.hpp — numpy in and out: coordinates of any broadcastable shape read in
+// place (no broadcast copies), fields and M-images handed to numpy without a copy.
+#pragma once
+
+#include "runtime/field.hpp"
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <cstddef>
+#include <vector>
+
+namespace fortu::python {
+
+/// The coordinate arguments of one call, broadcast against each other (numpy's rules).
+class PointArrays {
+public:
+    /// Each of `coordinates` a number or an array of real numbers (bool, int, float):
+    /// TypeError for anything else (complex, strings, objects), ValueError when the shapes
+    /// do not broadcast.
+    explicit PointArrays(const std::vector<pybind11::handle>& coordinates);
+
+    const std::vector<pybind11::ssize_t>& shape() const { return shape_; }
+    std::size_t points() const { return points_; }
+    /// Coordinates of points [first, first + count) (C order over shape()) into out[axis]
+    /// (nullptr: not wanted). Reads the arrays in place: safe without the GIL.
+    void gather(std::size_t first, int count, double* const out[3]) const;
+
+private:
+    struct Operand {
+        pybind11::array_t<double> array;        ///< float64 (converted if it was not)
+        std::vector<pybind11::ssize_t> strides; ///< in bytes, over shape(); 0 where broadcast
+        const char* data = nullptr;
+        bool contiguous = false;                ///< C-contiguous over exactly shape()
+    };
+    std::vector<Operand> operands_;
+    std::vector<pybind11::ssize_t> shape_;
+    std::size_t points_ = 1;
+};
+
+/// Converts one coordinate argument: TypeError unless its dtype is bool, integer or float.
+pybind11::array_t<double> real_array(pybind11::handle value, const char* name);
+
+/// The values of `field` as an ndarray in the command line's orientation: (rows, cols), or
+/// (slices, rows, cols) in 3D; row 0 is the largest Y. Takes the values without a copy;
+/// float32 converts (what `fortu run --float32 -o x.npy` writes).
+pybind11::array field_array(Field&& field, bool float32);
+
+/// An ndarray owning `values`, of `shape`, without a copy.
+pybind11::array_t<double> owning_array(std::vector<double>&& values, std::vector<pybind11::ssize_t> shape);
+
+/// The node coordinates along one axis (0 x, 1 y, 2 z) in the order of field_array's
+/// axes: x ascending (columns), y descending (rows), z ascending (slices).
+pybind11::array_t<double> axis_coordinates(const Grid& grid, int axis);
+
+}  // namespace fortu::python

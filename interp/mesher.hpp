@@ -17,10 +17,11 @@
 //   a table computed once (the side of the triangle's plane the inside nodes lie on never
 //   changes as vertices move along their edges).
 // Each vertex is the true zero of the field on its edge, to round-off: Newton's method along
-// the edge with the exact gradient (dual numbers), safeguarded by bisection, and its normal
-// is the exact gradient there. Dual contouring places vertices inside cells and so can sit on
-// sharp corners, but its manifold and intersection-free variants need repair and extra
-// vertices; we chose the guarantees (README "Meshes" says what that costs at sharp edges).
+// the edge with the exact gradient (dual numbers), safeguarded by bisection; its normal is the
+// exact gradient at the last iterate (within 1e-7 of an edge of it). Dual contouring places
+// vertices inside cells and so can sit on sharp corners, but its manifold and
+// intersection-free variants need repair passes and extra vertices; we chose the guarantees
+// (README "Meshes" says what that costs at sharp edges: they are cut by up to a cell).
 //
 // Only cells the surface can cross are evaluated: an octree over leaves of 8³ cells, each box
 // tested with interval arithmetic (interval.hpp) and its tape shortened for the box

@@ -151,6 +151,7 @@ void add_run_outputs(OptionTable& t, CliOptions& o) {
              [&o](const std::string& v) { o.mimages = v; });
     t.option("--contour", "FILE.svg", "the zero contour as SVG", [&o](const std::string& v) { o.contour = v; });
     t.flag("--float32", ".npy as float32 instead of float64", [&o] { o.float32 = true; });
+    t.flag("--ascii", ".stl as ASCII instead of binary", [&o] { o.ascii = true; });
     t.flag("--stats", "nodes, sharing, classic cost, time per stage, points/s,\ninvalid points, peak memory",
            [&o] { o.stats = true; });
 }
@@ -212,6 +213,10 @@ void check_combinations(CliOptions& o, const EngineChoice& choice) {
     const OutputFormat* contour = o.contour.empty() ? nullptr : output_format_for(o.contour);
     if (!o.contour.empty() && (!contour || contour->kind != OutputKind::Contour))
         throw UsageError(fmt::format("--contour: '{}' must be an .svg file", o.contour));
+    const OutputFormat* output = o.output.empty() ? nullptr : output_format_for(o.output);
+    if (output && output->kind == OutputKind::Mesh && (!o.mimages.empty() || !o.contour.empty()))
+        throw UsageError(fmt::format("-o {}: a mesh does not combine with --mimages or --contour (run twice)", o.output));
+    if (o.ascii && (!output || output->extension() != "stl")) throw UsageError("--ascii applies to -o FILE.stl only");
     // --sign-only is --engine sign; naming the default engine beside it is harmless, as before.
     if (choice.sign_only && choice.engine_given && o.engine != &default_engine() && !o.engine->capabilities().sign_only)
         throw UsageError(fmt::format("--sign-only runs the interval renderer; it does not combine with --engine {}",

@@ -36,6 +36,7 @@ struct CliOptions {
     double budget = 1e10;                      ///< classic operations per run before refusing (~1 min here)
     int threads = 0;
     bool float32 = false;                      ///< --float32 for .npy output
+    bool ascii = false;                        ///< --ascii for .stl output
     IrStage stage = IrStage::Lower;            ///< --stage: what `fortu ir` prints
 };
 

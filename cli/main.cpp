@@ -5,6 +5,7 @@
 #include "cli/cli_options.hpp"
 #include "cli/commands.hpp"
 #include "cli/data_paths.hpp"
+#include "cli/mesh_output.hpp"
 #include "cli/model_setup.hpp"
 #include "cli/point_report.hpp"
 
@@ -157,6 +158,7 @@ int command_run(const CliOptions& o) {
     std::optional<Model> model = load_model(o, false, compile_seconds);
     if (!model) return kExitModelError;
     const Grid grid = make_grid(*model, o);
+    if (is_mesh_output(o.output)) return run_mesh_output(*model, grid, o, compile_seconds);
     if (!classic_within_budget(*model, o, double(grid.points()))) return kExitUsage;
 
     const std::unique_ptr<Engine> engine = o.engine->tuned(o.engine_settings);

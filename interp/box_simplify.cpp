@@ -79,13 +79,15 @@ void evaluate_intervals(const Tape& tape, const std::array<Interval, 3>& axes, s
     }
 }
 
-void simplify_for_sign(const Tape& tape, const std::vector<Interval>& ranges, BoxScratch& s, Tape& out) {
+void simplify_for_sign(const Tape& tape, const std::vector<Interval>& ranges, BoxScratch& s, Tape& out,
+                       bool keep_values) {
     const uint32_t slots = tape.slot_count;
     s.live.assign(slots, 0);
     s.sign_only.assign(slots, 1);
     s.replacement.assign(slots, BoxScratch::Value{kItself, false, 0.0});
     s.renamed.resize(slots);
     s.live[tape.root_slot] = 1;
+    s.sign_only[tape.root_slot] = keep_values ? 0 : 1;
 
     // Backward: what each live value needs of its operands (users come after operands).
     for (std::size_t i = tape.code.size(); i-- > 0;) {

@@ -43,7 +43,11 @@ struct BoxScratch {
 /// over that box: dead code dropped, won min/max and sign-decided R-operations replaced by
 /// an operand, sign-decided values by ±1. `out` is an SSA tape whose root has the same sign
 /// at every point of the box (the same value where only the exact rules applied), its slots
-/// numbered densely.
-void simplify_for_sign(const Tape& tape, const std::vector<Interval>& ranges, BoxScratch& scratch, Tape& out);
+/// numbered densely. With `keep_values` the root's value is kept, not only its sign: only
+/// the exact rules apply (a won min/max, a decided select), so the shortened tape computes
+/// the same value bit for bit at every point of the box (the mesher's node values and
+/// Newton steps, mesher.hpp).
+void simplify_for_sign(const Tape& tape, const std::vector<Interval>& ranges, BoxScratch& scratch, Tape& out,
+                       bool keep_values = false);
 
 }  // namespace fortu

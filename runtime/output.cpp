@@ -56,8 +56,17 @@ void write_field(const Field& field, const std::string& path, const OutputOption
 }
 
 void write_field(const Field& field, const OutputTarget& target, const OutputOptions& options) {
+    if (!target.format->write)
+        throw OutputError(target.path, fmt::format("{} holds a mesh, made from the model by 'fortu run', not grid values",
+                                                   target.format->name));
     check_field(field, target.path);
     target.format->write(field, target, options);
+}
+
+void write_mesh(const Mesh& mesh, const OutputTarget& target, const OutputOptions& options) {
+    if (!target.format->write_mesh) throw OutputError(target.path, fmt::format("{} does not hold a mesh", target.format->name));
+    if (target.series) throw OutputError(target.path, "a mesh is one file: take the %d out of the name");
+    target.format->write_mesh(mesh, target.path, options);
 }
 
 std::optional<std::string> mimages_path_problem(const std::string& path) {

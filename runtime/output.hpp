@@ -22,6 +22,10 @@ void write_field(const Field& field, const std::string& path, const OutputOption
 /// The same for a path already resolved (resolve_output()).
 void write_field(const Field& field, const OutputTarget& target, const OutputOptions& options = {});
 
+/// Writes `mesh` (interp/mesher.hpp) to a mesh format's file (OutputKind::Mesh); throws
+/// OutputError, also for a target of another kind.
+void write_mesh(const Mesh& mesh, const OutputTarget& target, const OutputOptions& options = {});
+
 /// Why `path` cannot take the M-images, or nullopt if it can: it must end in `.exr`, or name
 /// a PNG/TIFF/BMP series with a number conversion (`m_%d.png`; JPEG would corrupt the codes).
 std::optional<std::string> mimages_path_problem(const std::string& path);

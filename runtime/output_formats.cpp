@@ -6,6 +6,8 @@
 #include "runtime/csv.hpp"
 #include "runtime/exr.hpp"
 #include "runtime/image_compare.hpp"
+#include "runtime/mesh_compare.hpp"
+#include "runtime/mesh_io.hpp"
 #include "runtime/npy.hpp"
 #include "runtime/numeric_text_compare.hpp"
 #include "runtime/output_error.hpp"
@@ -34,6 +36,12 @@ const std::vector<OutputFormat> kFormats{
      .compare = compare_numeric_text},
     {.name = "SVG", .extensions = {"svg"}, .kind = OutputKind::Contour, .write = write_contour_svg,
      .compare = compare_numeric_text},
+    {.name = "STL", .extensions = {"stl"}, .kind = OutputKind::Mesh, .holds = "binary; ASCII with --ascii",
+     .compare = compare_mesh_output, .write_mesh = write_stl},
+    {.name = "Wavefront OBJ", .extensions = {"obj"}, .kind = OutputKind::Mesh, .holds = "with normals",
+     .compare = compare_mesh_output, .write_mesh = write_obj},
+    {.name = "PLY", .extensions = {"ply"}, .kind = OutputKind::Mesh, .holds = "binary, float64",
+     .compare = compare_mesh_output, .write_mesh = write_ply},
 };
 
 /// How the usage text names a kind.

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "runtime/field.hpp"
+#include "runtime/mesh.hpp"
 #include "runtime/output_options.hpp"
 
 #include <span>
@@ -20,7 +21,7 @@ enum class OutputKind {
     Field,     ///< the raw values at every node (npy, csv)
     Contour,   ///< the zero contour as lines (--contour)
     MImages,   ///< the value and the FV model's components n1.. in one file (--mimages)
-    Mesh,      ///< the zero surface as triangles (no format yet)
+    Mesh,      ///< the zero surface as triangles (write_mesh; mesh_io.hpp)
     Volume,    ///< a 3D volume for viewers (no format yet)
 };
 
@@ -59,6 +60,8 @@ struct OutputComparison {
 };
 
 using OutputWriter = void (*)(const Field& field, const OutputTarget& target, const OutputOptions& options);
+/// Mesh formats: writes the mesh the mesher made (interp/mesher.hpp) to `path`.
+using MeshWriter = void (*)(const Mesh& mesh, const std::string& path, const OutputOptions& options);
 using OutputComparator = OutputComparison (*)(const ComparedOutput& compared);
 /// Draws the difference of a failed comparison to `diff_path`; "" or an error text.
 using DiffWriter = std::string (*)(const ComparedOutput& compared, const OutputComparison& comparison,
@@ -75,6 +78,7 @@ struct OutputFormat {
     OutputComparator compare = nullptr;          ///< nullptr: golden tests do not offer it
     DiffWriter write_diff = nullptr;             ///< nullptr: no picture of a difference
     std::string_view diff_name{};                ///< NAME.<diff_name> beside a failing golden test
+    MeshWriter write_mesh = nullptr;             ///< OutputKind::Mesh rows: the writer (`write` is unused)
 
     /// The usual extension, which also names the format in `// golden-output` directives.
     std::string_view extension() const { return extensions.front(); }

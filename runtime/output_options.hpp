@@ -27,6 +27,8 @@ struct OutputOptions {
     /// Pictures: points {x, y} in world coordinates to mark with a red ring (singular
     /// points, probes); points outside the domain are skipped.
     std::vector<std::array<double, 2>> markers;
+    /// Meshes: ASCII STL instead of binary.
+    bool ascii = false;
 };
 
 }  // namespace fortu

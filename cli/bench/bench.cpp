@@ -3,6 +3,7 @@
 // CSV and an SVG plot). `--paper` hands over to bench_paper.cpp, `--performance` to
 // bench_performance.cpp.
 #include "cli/bench/bench_measure.hpp"
+#include "cli/bench/bench_mesh.hpp"
 #include "cli/bench/bench_paper.hpp"
 #include "cli/bench/bench_performance.hpp"
 #include "cli/bench/bench_report.hpp"
@@ -41,6 +42,7 @@ struct BenchArgs {
     MeasureOptions measure;
     std::string json, csv, plot;
     bool paper = false, performance = false, quick = false;
+    bool mesh = false;   ///< --mesh: time the mesher instead of the engines
     std::string out_dir, examples_dir, data_dir;
     bool sizes_given = false, engines_given = false, repeat_given = false;
 
@@ -104,6 +106,9 @@ OptionTable bench_options(BenchArgs& b) {
                  if (b.plot.size() < 4 || b.plot.substr(b.plot.size() - 4) != ".svg")
                      throw UsageError(fmt::format("--plot: '{}' must end in .svg (fortu writes SVG plots)", b.plot));
              });
+    t.flag("--mesh", "time meshing (fortu run -o F.stl) of each 3D MODEL at each size\n"
+                     "instead of the engines: triangles, time, peak memory",
+           [&b] { b.mesh = true; });
     t.flag("--paper", "the papers' experiments E1-E5", [&b] { b.paper = true; });
     t.flag("--performance", "issue 5's suite beside its targets", [&b] { b.performance = true; });
     t.flag("--quick", "--paper / --performance on small grids (a smoke run)", [&b] { b.quick = true; });
@@ -206,6 +211,9 @@ int run_bench_command(const std::vector<std::string>& args) {
     const std::optional<BenchArgs> parsed = parse_bench_args(args);
     if (!parsed) return 0;
     const BenchArgs& b = *parsed;
+    if (b.mesh && (b.suite() || b.engines_given || b.measure.mimages || !b.json.empty() || !b.csv.empty() || !b.plot.empty()))
+        throw UsageError("'fortu bench --mesh' times the mesher on MODEL... (--sizes, --repeat, --threads)");
+    if (b.mesh) return run_mesh_benchmarks(b.models, b.sizes_given ? b.sizes : std::vector<int>{65, 129}, b.measure);
     if (b.performance) {
         PerformanceOptions p;
         p.quick = b.quick;

@@ -70,6 +70,17 @@ bool& clear_refs_works() {
 
 }  // namespace
 
+PeakMemoryProbe::PeakMemoryProbe()
+    : per_stretch_(clear_refs_works() && reset_peak_rss()),
+      before_(per_stretch_ ? proc_status_bytes("VmRSS") : peak_rss_bytes()) {}
+
+std::size_t PeakMemoryProbe::peak() const { return per_stretch_ ? proc_status_bytes("VmHWM") : peak_rss_bytes(); }
+
+std::size_t PeakMemoryProbe::growth() const {
+    const std::size_t p = peak();
+    return p > before_ ? p - before_ : 0;
+}
+
 std::filesystem::path examples_folder(const std::string& given) {
     if (!given.empty()) return given;
     return examples_dir();

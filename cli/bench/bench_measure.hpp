@@ -46,6 +46,19 @@ struct MeasureOptions {
     bool mimages = false;         ///< each run also computes the M-images (not for sign cells)
 };
 
+/// The peak resident memory of a stretch of work: from construction on when the kernel lets
+/// the peak mark be reset (/proc/self/clear_refs), else the process's peak so far.
+class PeakMemoryProbe {
+public:
+    PeakMemoryProbe();
+    std::size_t peak() const;     ///< bytes
+    std::size_t growth() const;   ///< peak minus the resident size at construction
+
+private:
+    bool per_stretch_ = false;
+    std::size_t before_ = 0;
+};
+
 /// One measured (or skipped) combination of model, engine and grid.
 struct BenchCell {
     std::string model;                 ///< path or generated name

@@ -9,6 +9,7 @@
 #include "interp/classic_cost.hpp"
 #include "interp/ir_print.hpp"
 #include "interp/lower.hpp"
+#include "interp/mesher.hpp"
 #include "interp/singular.hpp"
 #include "runtime/atomic_file.hpp"
 #include "runtime/output.hpp"
@@ -25,6 +26,7 @@
 #include <fstream>
 #include <iterator>
 #include <map>
+#include <optional>
 #include <span>
 
 namespace fortu {
@@ -183,6 +185,7 @@ private:
     void updated(std::string what) { updates_.push_back(std::move(what)); }
 
     const GoldenTest& test_;
+    std::optional<Mesh> mesh_;   ///< the model's mesh, for mesh outputs (made once per test)
     const GoldenRunOptions& options_;
     TempDir temp_;
     std::vector<std::string> failures_;     ///< problems left failing
@@ -302,7 +305,9 @@ void TestRun::check_file(const Field& field, const std::string& kind, const std:
     const bool exists = fs::exists(expected);
     auto write_actual = [&](const std::string& path) -> std::string {
         try {
-            write_field(field, path, out);
+            const OutputTarget target = resolve_output(path);
+            if (target.format->kind == OutputKind::Mesh) write_mesh(*mesh_, target, out);
+            else write_field(field, target, out);
         } catch (const OutputError& e) {
             return e.what();
         }
@@ -412,9 +417,15 @@ void TestRun::check_files(const Model& model, const Grid& grid, const std::vecto
     }
     if (fields.empty()) return;
     if (fields.size() == 2 && same_values(fields[0].values, fields[1].values)) fields.pop_back();
+    for (const std::string& kind : kinds_)
+        if (golden_output_format(kind)->kind == OutputKind::Mesh && !mesh_) {
+            if (grid.dims != 3) return fail(fmt::format("golden-output {}: a mesh needs a 3D model", kind));
+            mesh_ = extract_mesh(model.graph, model.root, grid, eval);
+        }
     for (std::size_t i = 0; i < fields.size(); ++i)
         for (const std::string& kind : kinds_)
-            check_file(fields[i], kind, fields.size() == 1 ? engines_label(ran) : std::string(ran[i]->name()), i == 0);
+            if (i == 0 || golden_output_format(kind)->kind != OutputKind::Mesh)  // one mesh, whatever the engine
+                check_file(fields[i], kind, fields.size() == 1 ? engines_label(ran) : std::string(ran[i]->name()), i == 0);
 }
 
 GoldenResult TestRun::run() {

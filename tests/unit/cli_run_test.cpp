@@ -199,7 +199,10 @@ TEST_CASE("run writes every output format, atomically, and reports invalid point
     TempDir t;
     const std::string m = quote(t.write("disc.fortu", kDisc));
     const Field field = disc_field();
+    int written = 0;
     for (const OutputFormat& format : output_formats()) {
+        if (format.kind == OutputKind::Mesh) continue;  // 3D models only: cli_mesh_test.cpp
+        ++written;
         const std::string name = "out." + std::string(format.extension());
         CAPTURE(name);
         auto r = run_fortu("run " + m + " --size 17 -o " + quote((t.path / name).string()));
@@ -212,7 +215,7 @@ TEST_CASE("run writes every output format, atomically, and reports invalid point
     // only the outputs asked for: no temporaries left behind
     int files = 0;
     for (const auto& e : std::filesystem::directory_iterator(t.path)) files += e.is_regular_file();
-    CHECK(files == 1 + static_cast<int>(output_formats().size()) + 4);
+    CHECK(files == 1 + written + 4);
 
     const std::string inv = quote(t.write("inv.fortu", "ARGUMENT X, Y;\nRETURN 1/X;\n"));
     r = run_fortu("run " + inv + " --size 3 -o " + quote((t.path / "inv.png").string()));

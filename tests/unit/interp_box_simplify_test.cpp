@@ -12,7 +12,8 @@ using namespace fortu;
 namespace {
 
 /// The tape of `text` simplified for the box X in [x0, x1], Y in [y0, y1], as text.
-std::string simplified(const std::string& text, double x0, double x1, double y0, double y1) {
+std::string simplified(const std::string& text, double x0, double x1, double y0, double y1,
+                       bool keep_values = false) {
     auto c = test::compile_text(text);
     REQUIRE_MESSAGE(c.model, c.sink.render_all());
     const Tape tape = compile_tape(c.model->graph, TapeSpec{{c.model->root}, {}, {}, false});
@@ -20,7 +21,7 @@ std::string simplified(const std::string& text, double x0, double x1, double y0,
     evaluate_intervals(tape, {Interval{x0, x1, false}, Interval{y0, y1, false}, Interval{}}, ranges);
     BoxScratch scratch;
     Tape out;
-    simplify_for_sign(tape, ranges, scratch, out);
+    simplify_for_sign(tape, ranges, scratch, out, keep_values);
     return print_tape(out, c.model->arguments);
 }
 
@@ -71,4 +72,26 @@ TEST_CASE("a won MIN becomes its operand; a sign-decided R-operand leaves the ot
           "s5 = sub 0.5 s2\n"
           "s6 = rand s4 s5 alpha=0\n"
           "return s6\n");
+}
+
+TEST_CASE("keeping values: only the exact rules apply, the R-operation stays") {
+    const std::string model = "ARGUMENT X, Y\nRETURN MIN(X, X + 10) & (0.5 - Y)\n";
+    // On X in [0, 1], Y in [0, 1]: MIN is won by X either way; for the sign 0.5 - Y cannot
+    // decide (it changes sign), but the values of the R-operation need both operands.
+    CHECK(simplified(model, 0, 1, 0, 1, /*keep_values=*/true) ==
+          "; 2 operations, 5 slots\n"
+          "s1 = arg X\n"
+          "s2 = arg Y\n"
+          "s3 = sub 0.5 s2\n"
+          "s4 = rand s1 s3 alpha=0\n"
+          "return s4\n");
+    // Where Y > 0.5 everywhere the sign is decided (-1), the value is not: the tape stays.
+    CHECK(simplified(model, 0, 1, 0.6, 1, /*keep_values=*/true) ==
+          "; 2 operations, 5 slots\n"
+          "s1 = arg X\n"
+          "s2 = arg Y\n"
+          "s3 = sub 0.5 s2\n"
+          "s4 = rand s1 s3 alpha=0\n"
+          "return s4\n");
+    CHECK(simplified(model, 0, 1, 0.6, 1) == "; 0 operations, 2 slots\ns1 = const -1\nreturn s1\n");
 }

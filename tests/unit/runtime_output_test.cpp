@@ -83,7 +83,10 @@ TEST_CASE("output_format_for follows the extension, case-insensitively") {
     CHECK(name("dir.png/file") == "none");
     CHECK(name("") == "none");
     CHECK(supported_output_extensions() ==
-          std::vector<std::string>{"png", "jpg", "jpeg", "tif", "tiff", "bmp", "exr", "npy", "csv", "svg"});
+          std::vector<std::string>{"png", "jpg", "jpeg", "tif", "tiff", "bmp", "exr", "npy", "csv", "svg", "stl", "obj",
+                                   "ply"});
+    CHECK(output_format_for("a.stl")->kind == OutputKind::Mesh);
+    CHECK(output_format_for("a.PLY")->kind == OutputKind::Mesh);
     CHECK(output_format_for("a.bmp")->kind == OutputKind::Picture);
     CHECK(output_format_for("a.exr")->kind == OutputKind::MImages);
     CHECK(output_format_for("a.npy")->kind == OutputKind::Field);
@@ -96,16 +99,18 @@ TEST_CASE("the usage text and the golden kinds are generated from the table") {
     CHECK(output_formats_usage(4) == "picture: .png .jpg .tif .bmp\n"
                                      "    M-images: .exr (value + n1..n4 channels)\n"
                                      "    values: .npy .csv (x,y[,z],value lines)\n"
-                                     "    zero contour: .svg");
-    CHECK(output_extensions_text() == ".png .jpg .tif .bmp .exr .npy .csv .svg");
-    CHECK(output_extensions_text(", ") == ".png, .jpg, .tif, .bmp, .exr, .npy, .csv, .svg");
-    CHECK(golden_output_kinds() == std::vector<std::string>{"png", "exr", "npy", "csv", "svg"});
+                                     "    zero contour: .svg\n"
+                                     "    mesh: .stl (binary; ASCII with --ascii) .obj (with normals) .ply (binary, float64)");
+    CHECK(output_extensions_text() == ".png .jpg .tif .bmp .exr .npy .csv .svg .stl .obj .ply");
+    CHECK(output_extensions_text(", ") == ".png, .jpg, .tif, .bmp, .exr, .npy, .csv, .svg, .stl, .obj, .ply");
+    CHECK(golden_output_kinds() == std::vector<std::string>{"png", "exr", "npy", "csv", "svg", "stl", "obj", "ply"});
     CHECK(golden_output_format("npy") == output_format_for("x.npy"));
     CHECK(golden_output_format("jpg") == nullptr);   // lossy: no golden comparator
     CHECK(golden_output_format("xyz") == nullptr);
     for (const OutputFormat& format : output_formats()) {
         CAPTURE(format.name);
-        CHECK(static_cast<bool>(format.write));
+        CHECK(static_cast<bool>(format.write) != (format.kind == OutputKind::Mesh));   // meshes: write_mesh
+        CHECK(static_cast<bool>(format.write_mesh) == (format.kind == OutputKind::Mesh));
         CHECK_FALSE(format.extensions.empty());
         CHECK(output_format_for("a." + std::string(format.extension())) == &format);
     }
@@ -123,7 +128,7 @@ TEST_CASE("resolve_output: the format and whether the path is a series, decided 
     CHECK(slices.file(7) == "slice_007.svg");
     CHECK_THROWS_WITH_AS(resolve_output("out.xyz"),
                          "cannot write 'out.xyz': unknown output format '.xyz' (known: png, jpg, jpeg, tif, tiff, bmp, "
-                         "exr, npy, csv, svg)",
+                         "exr, npy, csv, svg, stl, obj, ply)",
                          OutputError);
 }
 
@@ -274,7 +279,7 @@ TEST_CASE("write_field: unknown extension, directory as destination, empty grid"
     ScratchDir dir;
     CHECK_THROWS_WITH_AS(write_field(y_plus_x(), dir / "out.xyz"),
                          ("cannot write '" + (dir / "out.xyz") +
-                          "': unknown output format '.xyz' (known: png, jpg, jpeg, tif, tiff, bmp, exr, npy, csv, svg)")
+                          "': unknown output format '.xyz' (known: png, jpg, jpeg, tif, tiff, bmp, exr, npy, csv, svg, stl, obj, ply)")
                              .c_str(),
                          OutputError);
     fs::create_directory(dir / "taken.csv");
@@ -333,4 +338,13 @@ TEST_CASE("svg: header with a viewBox of the domain, one polyline per chain") {
     for (const auto& l : lines) polylines += l.starts_with("<polyline");
     CHECK(polylines == 1);
     CHECK(lines.back() == "</svg>");
+}
+
+TEST_CASE("a mesh format takes a mesh, not grid values") {
+    fortu::test::ScratchDir dir;
+    CHECK_THROWS_WITH_AS(write_field(y_plus_x(), dir / "m.stl"),
+                         ("cannot write '" + dir / "m.stl" +
+                          "': STL holds a mesh, made from the model by 'fortu run', not grid values").c_str(),
+                         OutputError);
+    CHECK(dir.entries() == 0);
 }

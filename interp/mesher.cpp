@@ -1,0 +1,520 @@
+// interp/mesher.cpp — the octree walk, the leaves' node values, the edges' Newton solves,
+// the tetrahedra's triangles and the final welding of vertices shared between leaves.
+#include "interp/mesher.hpp"
+
+#include "interp/box_simplify.hpp"
+#include "interp/interval.hpp"
+#include "interp/lane_kernel.hpp"
+#include "interp/parallel.hpp"
+#include "interp/tape.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <memory>
+#include <stdexcept>
+#include <tuple>
+#include <vector>
+
+namespace fortu {
+namespace {
+
+using ir::Dual;
+using Vec = std::array<double, 3>;
+
+constexpr int kLeafCells = 8;                 ///< a leaf is 8³ cells, 9³ nodes (4³ measured: no faster on bear.vm)
+constexpr int kLeafNodes = kLeafCells + 1;
+/// Vertices stay this fraction of their edge away from its nodes: no two vertices coincide and
+/// no triangle degenerates, even after STL rounds coordinates to float32 (6e-8 relative).
+constexpr double kEdgeMargin = 1e-3;
+/// Newton/bisection stops when a step along the edge was below this fraction of it: Newton's
+/// steps shrink quadratically, so the point is then exact to round-off on smooth fields.
+constexpr double kEdgeTolerance = 1e-7;
+constexpr int kMaxEdgeSteps = 64;
+constexpr int kEdgeLanes = 64;                ///< edges solved together on one tape run
+
+// ---- The Kuhn split of a cube and the triangles of each sign case -------------------------
+
+/// Cube corners by bits (1: +X, 2: +Y, 4: +Z). The six tetrahedra share the diagonal 0–7;
+/// every edge of them joins a corner to one whose bits include its own.
+constexpr int kTetCorners[6][4] = {{0, 1, 3, 7}, {0, 1, 5, 7}, {0, 2, 3, 7}, {0, 2, 6, 7}, {0, 4, 5, 7}, {0, 4, 6, 7}};
+
+/// A triangle vertex: the edge between two corners of the cube (inside first).
+struct CaseEdge {
+    uint8_t inside, outside;
+};
+struct CaseTriangles {
+    int count = 0;
+    CaseEdge tri[2][3];
+};
+
+Vec corner_position(int c) { return {double(c & 1), double((c >> 1) & 1), double((c >> 2) & 1)}; }
+
+/// The table, per tetrahedron and per mask of its inside corners (bit k: tet corner k).
+struct CaseTable {
+    CaseTriangles cases[6][16];
+    CaseTable() {
+        for (int t = 0; t < 6; ++t)
+            for (int mask = 1; mask < 15; ++mask) {
+                std::vector<int> in, out;
+                for (int k = 0; k < 4; ++k) ((mask >> k) & 1 ? in : out).push_back(kTetCorners[t][k]);
+                CaseTriangles& c = cases[t][mask];
+                auto e = [](int a, int b) { return CaseEdge{uint8_t(a), uint8_t(b)}; };
+                if (in.size() == 1) {
+                    c.count = 1;
+                    c.tri[0][0] = e(in[0], out[0]), c.tri[0][1] = e(in[0], out[1]), c.tri[0][2] = e(in[0], out[2]);
+                } else if (in.size() == 3) {
+                    c.count = 1;
+                    c.tri[0][0] = e(in[0], out[0]), c.tri[0][1] = e(in[1], out[0]), c.tri[0][2] = e(in[2], out[0]);
+                } else {
+                    c.count = 2;  // the quad (a,c) (b,c) (b,d) (a,d), split along (a,c)–(b,d)
+                    c.tri[0][0] = e(in[0], out[0]), c.tri[0][1] = e(in[1], out[0]), c.tri[0][2] = e(in[1], out[1]);
+                    c.tri[1][0] = e(in[0], out[0]), c.tri[1][1] = e(in[1], out[1]), c.tri[1][2] = e(in[0], out[1]);
+                }
+                // Orient: the normal points away from the inside corners. Which side they are
+                // on does not change as vertices move along their edges, so midpoints decide.
+                for (int k = 0; k < c.count; ++k) {
+                    Vec q[3];
+                    for (int v = 0; v < 3; ++v) {
+                        const Vec a = corner_position(c.tri[k][v].inside), b = corner_position(c.tri[k][v].outside);
+                        for (int d = 0; d < 3; ++d) q[v][d] = (a[d] + b[d]) / 2;
+                    }
+                    const Vec u{q[1][0] - q[0][0], q[1][1] - q[0][1], q[1][2] - q[0][2]};
+                    const Vec w{q[2][0] - q[0][0], q[2][1] - q[0][1], q[2][2] - q[0][2]};
+                    const Vec n{u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+                    const Vec p = corner_position(in[0]);
+                    const double side = n[0] * (q[0][0] - p[0]) + n[1] * (q[0][1] - p[1]) + n[2] * (q[0][2] - p[2]);
+                    if (side < 0) std::swap(c.tri[k][1], c.tri[k][2]);
+                }
+            }
+    }
+};
+
+const CaseTable& case_table() {
+    static const CaseTable table;
+    return table;
+}
+
+// ---- Leaves --------------------------------------------------------------------------------
+
+/// A vertex reference inside a leaf: bits 0–11 the owner's edge id (node·8 + direction, node =
+/// x + 8y + 64z in the owner), bits 12–14 which neighbour owns it (+X, +Y, +Z).
+using EdgeRef = uint16_t;
+
+struct LeafMesh {
+    std::array<int, 3> leaf{};                   ///< leaf coordinates
+    std::vector<uint16_t> edges;                 ///< owned crossing edges, increasing ids
+    std::vector<Vec> positions, normals;         ///< per owned edge
+    std::vector<std::array<EdgeRef, 3>> triangles;
+};
+
+struct Lattice {
+    double min[3], step[3];
+    int nodes[3], cells[3], leaves[3];
+    double at(int axis, int i) const { return min[axis] + i * step[axis]; }
+};
+
+/// Scratch reused by one worker from leaf to leaf.
+struct Worker {
+    std::vector<Interval> ranges;
+    BoxScratch box;
+    std::vector<std::unique_ptr<Tape>> tapes;    ///< one per depth
+    std::vector<double> lanes;
+    std::vector<double*> slots;
+    std::vector<Dual> dual_lanes;
+    std::vector<Dual*> dual_slots;
+    std::vector<LeafMesh> leaves;
+    MeshStats stats;
+};
+
+template <class T>
+void bind_slots(std::vector<T>& lanes, std::vector<T*>& slots, const Tape& tape, int width) {
+    if (lanes.size() < std::size_t(tape.slot_count) * width) lanes.assign(std::size_t(tape.slot_count) * width, T(0.0));
+    slots.resize(tape.slot_count);
+    for (uint32_t s = 0; s < tape.slot_count; ++s) slots[s] = lanes.data() + std::size_t(s) * width;
+    std::fill_n(slots[0], width, T(0.0));  // the zero slot unused operands read
+}
+
+class Mesher {
+public:
+    Mesher(const Grid& grid) {
+        const Axis* axes[3] = {&grid.x, &grid.y, &grid.z};
+        for (int a = 0; a < 3; ++a) {
+            l_.min[a] = axes[a]->min;
+            l_.step[a] = axes[a]->step();
+            l_.nodes[a] = axes[a]->nodes;
+            l_.cells[a] = axes[a]->nodes - 1;
+            l_.leaves[a] = (l_.cells[a] + kLeafCells - 1) / kLeafCells;
+        }
+    }
+    const Lattice& lattice() const { return l_; }
+
+    /// A box of leaves [lo, lo + size) per axis (clipped to the lattice).
+    struct Box {
+        std::array<int, 3> lo;
+        int size;
+    };
+
+    enum class Verdict { Empty, Leaf, Split };
+
+    /// Tests the box with intervals. Empty: no surface can cross it. Otherwise `simplified`
+    /// holds the tape shortened for it and `all_inside` says the intervals found it inside
+    /// (a box on the domain's border still meshes its cap there).
+    Verdict decide(const Box& box, const Tape& tape, Worker& w, Tape& simplified, bool& all_inside) const {
+        ++w.stats.boxes;
+        std::array<Interval, 3> axes;
+        bool border = false;
+        for (int a = 0; a < 3; ++a) {
+            const int c0 = box.lo[a] * kLeafCells, c1 = std::min((box.lo[a] + box.size) * kLeafCells, l_.cells[a]);
+            axes[a] = {std::min(l_.at(a, c0), l_.at(a, c1)), std::max(l_.at(a, c0), l_.at(a, c1)), false};
+            border |= c0 == 0 || c1 == l_.cells[a];
+        }
+        evaluate_intervals(tape, axes, w.ranges);
+        const Interval& r = w.ranges[tape.root_slot];
+        if (r.hi <= 0 && !r.maybe_nan) return Verdict::Empty;
+        all_inside = r.positive();
+        if (all_inside && !border) return Verdict::Empty;
+        if (all_inside) simplified = tape;
+        else simplify_for_sign(tape, w.ranges, w.box, simplified, /*keep_values=*/true);
+        return box.size == 1 ? Verdict::Leaf : Verdict::Split;
+    }
+
+    std::vector<Box> split(const Box& box) const {
+        std::vector<Box> parts;
+        const int half = box.size / 2;
+        for (int k = 0; k < 8; ++k) {
+            Box b{{box.lo[0] + (k & 1) * half, box.lo[1] + ((k >> 1) & 1) * half, box.lo[2] + ((k >> 2) & 1) * half},
+                  half};
+            if (b.lo[0] < l_.leaves[0] && b.lo[1] < l_.leaves[1] && b.lo[2] < l_.leaves[2]) parts.push_back(b);
+        }
+        return parts;
+    }
+
+    /// Depth-first from a box whose parent's tape is `tape`.
+    void walk(const Box& box, const Tape& tape, Worker& w, std::size_t depth, const std::atomic<bool>* cancel) const {
+        if (cancel && cancel->load()) return;
+        if (w.tapes.size() <= depth) w.tapes.push_back(std::make_unique<Tape>());
+        Tape& simplified = *w.tapes[depth];
+        bool all_inside = false;
+        switch (decide(box, tape, w, simplified, all_inside)) {
+            case Verdict::Empty: return;
+            case Verdict::Leaf: mesh_leaf(box.lo, simplified, all_inside, w); return;
+            case Verdict::Split:
+                for (const Box& child : split(box)) walk(child, simplified, w, depth + 1, cancel);
+        }
+    }
+
+    void mesh_leaf(const std::array<int, 3>& leaf, const Tape& tape, bool all_inside, Worker& w) const {
+        int c0[3], nc[3], nn[3];
+        for (int a = 0; a < 3; ++a) {
+            c0[a] = leaf[a] * kLeafCells;
+            nc[a] = std::min(kLeafCells, l_.cells[a] - c0[a]);
+            nn[a] = nc[a] + 1;
+        }
+        const int count = nn[0] * nn[1] * nn[2];
+        auto local = [&](int x, int y, int z) { return (z * nn[1] + y) * nn[0] + x; };
+        // Node values: the leaf's tape over its nodes (exact values), or "inside" by intervals.
+        double values[kLeafNodes * kLeafNodes * kLeafNodes];
+        if (all_inside) {
+            std::fill_n(values, count, 1.0);
+        } else {
+            bind_slots(w.lanes, w.slots, tape, kLeafNodes * kLeafNodes * kLeafNodes);
+            for (auto [slot, axis] : tape.arguments) {
+                double* out = w.slots[slot];
+                for (int z = 0; z < nn[2]; ++z)
+                    for (int y = 0; y < nn[1]; ++y)
+                        for (int x = 0; x < nn[0]; ++x) {
+                            const int g[3] = {c0[0] + x, c0[1] + y, c0[2] + z};
+                            out[local(x, y, z)] = l_.at(axis, g[axis]);
+                        }
+            }
+            for (auto [slot, value] : tape.constants) std::fill_n(w.slots[slot], count, value);
+            run_lanes<double, 0>(tape.code.data(), tape.code.size(), w.slots.data(), count);
+            std::copy_n(w.slots[tape.root_slot], count, values);
+            w.stats.node_evaluations += count;
+        }
+        bool inside[kLeafNodes * kLeafNodes * kLeafNodes];
+        int inside_count = 0;
+        for (int z = 0; z < nn[2]; ++z)
+            for (int y = 0; y < nn[1]; ++y)
+                for (int x = 0; x < nn[0]; ++x) {
+                    const int g[3] = {c0[0] + x, c0[1] + y, c0[2] + z};
+                    bool border = false;
+                    for (int a = 0; a < 3; ++a) border |= g[a] == 0 || g[a] == l_.cells[a];
+                    const int i = local(x, y, z);
+                    inside[i] = !border && values[i] > 0;
+                    inside_count += inside[i];
+                }
+        ++w.stats.leaves;
+        if (inside_count == 0) return;
+
+        LeafMesh m;
+        m.leaf = leaf;
+        // The crossing edges this leaf owns: from its nodes [0, nc) along the seven directions.
+        struct Pending {
+            Vec from, along;        ///< inside node, and the vector to the outside one
+            double f_in, f_out;
+        };
+        std::vector<Pending> pending;
+        for (int z = 0; z < nc[2]; ++z)
+            for (int y = 0; y < nc[1]; ++y)
+                for (int x = 0; x < nc[0]; ++x)
+                    for (int dir = 1; dir < 8; ++dir) {
+                        const int i = local(x, y, z), j = local(x + (dir & 1), y + ((dir >> 1) & 1), z + (dir >> 2));
+                        if (inside[i] == inside[j]) continue;
+                        const int in = inside[i] ? i : j, out = inside[i] ? j : i;
+                        const int ux = x + (dir & 1) * (in == j), uy = y + ((dir >> 1) & 1) * (in == j),
+                                  uz = z + (dir >> 2) * (in == j);
+                        const int vx = x + (dir & 1) * (out == j), vy = y + ((dir >> 1) & 1) * (out == j),
+                                  vz = z + (dir >> 2) * (out == j);
+                        const Vec p{l_.at(0, c0[0] + ux), l_.at(1, c0[1] + uy), l_.at(2, c0[2] + uz)};
+                        const Vec q{l_.at(0, c0[0] + vx), l_.at(1, c0[1] + vy), l_.at(2, c0[2] + vz)};
+                        m.edges.push_back(uint16_t((x + kLeafCells * y + kLeafCells * kLeafCells * z) * 8 + dir));
+                        pending.push_back({p, {q[0] - p[0], q[1] - p[1], q[2] - p[2]}, values[in], values[out]});
+                    }
+        m.positions.resize(pending.size());
+        m.normals.resize(pending.size());
+        solve_edges(tape, pending, m, all_inside, w);
+
+        // Triangles, tetrahedron by tetrahedron.
+        const CaseTable& table = case_table();
+        for (int z = 0; z < nc[2]; ++z)
+            for (int y = 0; y < nc[1]; ++y)
+                for (int x = 0; x < nc[0]; ++x) {
+                    int corner_inside = 0;
+                    for (int c = 0; c < 8; ++c)
+                        corner_inside |= int(inside[local(x + (c & 1), y + ((c >> 1) & 1), z + (c >> 2))]) << c;
+                    if (corner_inside == 0 || corner_inside == 255) continue;
+                    for (int t = 0; t < 6; ++t) {
+                        int mask = 0;
+                        for (int k = 0; k < 4; ++k) mask |= ((corner_inside >> kTetCorners[t][k]) & 1) << k;
+                        const CaseTriangles& cases = table.cases[t][mask];
+                        for (int k = 0; k < cases.count; ++k) {
+                            std::array<EdgeRef, 3> tri{};
+                            for (int v = 0; v < 3; ++v) tri[v] = edge_ref(x, y, z, cases.tri[k][v]);
+                            m.triangles.push_back(tri);
+                        }
+                    }
+                }
+        w.leaves.push_back(std::move(m));
+    }
+
+    /// Each pending edge's zero: Newton's method in t along the edge from the linear guess,
+    /// kept inside the bracket [lo, hi] by bisection; batched on the leaf's tape in dual numbers.
+    template <class Pending>
+    void solve_edges(const Tape& tape, const std::vector<Pending>& pending, LeafMesh& m, bool all_inside,
+                     Worker& w) const {
+        const std::size_t n = pending.size();
+        std::vector<double> t(n), lo(n, 0.0), hi(n, 1.0);
+        std::vector<uint8_t> done(n, 0);
+        std::vector<Vec> gradient(n, Vec{0, 0, 0});
+        std::vector<std::size_t> active;
+        for (std::size_t e = 0; e < n; ++e) {
+            const auto& p = pending[e];
+            // No zero on the edge (the outside end is the domain's border, or the leaf was
+            // inside by its intervals): the cap, at the border end.
+            if (all_inside || p.f_out > 0) {
+                t[e] = 1.0 - kEdgeMargin;
+                done[e] = 1;
+                continue;
+            }
+            const double guess = p.f_in / (p.f_in - p.f_out);
+            t[e] = std::isfinite(guess) && guess > 0 && guess < 1 ? guess : 0.5;
+            active.push_back(e);
+        }
+        if (!active.empty()) bind_slots(w.dual_lanes, w.dual_slots, tape, kEdgeLanes);
+        for (int step = 0; step < kMaxEdgeSteps && !active.empty(); ++step) {
+            std::vector<std::size_t> next;
+            for (std::size_t first = 0; first < active.size(); first += kEdgeLanes) {
+                const int lanes = int(std::min<std::size_t>(kEdgeLanes, active.size() - first));
+                for (auto [slot, axis] : tape.arguments)
+                    for (int l = 0; l < lanes; ++l) {
+                        const auto& p = pending[active[first + l]];
+                        w.dual_slots[slot][l] =
+                            Dual::variable(p.from[axis] + t[active[first + l]] * p.along[axis], axis);
+                    }
+                for (auto [slot, value] : tape.constants) std::fill_n(w.dual_slots[slot], lanes, Dual(value));
+                run_lanes<Dual, 0>(tape.code.data(), tape.code.size(), w.dual_slots.data(), lanes);
+                w.stats.edge_evaluations += lanes;
+                const Dual* f = w.dual_slots[tape.root_slot];
+                for (int l = 0; l < lanes; ++l) {
+                    const std::size_t e = active[first + l];
+                    const auto& p = pending[e];
+                    const double value = f[l].v;
+                    if (std::isfinite(f[l].d[0]) && std::isfinite(f[l].d[1]) && std::isfinite(f[l].d[2]))
+                        gradient[e] = {f[l].d[0], f[l].d[1], f[l].d[2]};
+                    if (value == 0) continue;  // exactly on the surface
+                    (value > 0 ? lo[e] : hi[e]) = t[e];
+                    const double slope =
+                        f[l].d[0] * p.along[0] + f[l].d[1] * p.along[1] + f[l].d[2] * p.along[2];
+                    const double newton = t[e] - value / slope;
+                    double moved;
+                    if (std::isfinite(value) && std::isfinite(newton) && newton > lo[e] && newton < hi[e]) {
+                        moved = std::fabs(newton - t[e]);
+                        t[e] = newton;
+                    } else {
+                        t[e] = (lo[e] + hi[e]) / 2;
+                        moved = hi[e] - lo[e];
+                    }
+                    if (moved > kEdgeTolerance) next.push_back(e);
+                }
+            }
+            active = std::move(next);
+        }
+        m.positions.resize(n);
+        m.normals.resize(n);
+        for (std::size_t e = 0; e < n; ++e) {
+            const auto& p = pending[e];
+            const double s = std::clamp(t[e], kEdgeMargin, 1.0 - kEdgeMargin);
+            for (int a = 0; a < 3; ++a) m.positions[e][a] = p.from[a] + s * p.along[a];
+            const double len = std::hypot(gradient[e][0], gradient[e][1], gradient[e][2]);
+            m.normals[e] = len > 0 ? Vec{-gradient[e][0] / len, -gradient[e][1] / len, -gradient[e][2] / len}
+                                   : Vec{0, 0, 0};
+        }
+        w.stats.crossing_edges += n;
+    }
+
+    /// The reference of a tetrahedron edge of cell (x, y, z) of a leaf.
+    static EdgeRef edge_ref(int x, int y, int z, CaseEdge e) {
+        const int lower = e.inside & e.outside, dir = e.inside ^ e.outside;
+        int u[3] = {x + (lower & 1), y + ((lower >> 1) & 1), z + (lower >> 2)};
+        int owner = 0;
+        for (int a = 0; a < 3; ++a)
+            if (u[a] == kLeafCells) owner |= 1 << a, u[a] = 0;
+        return EdgeRef(owner << 12 | ((u[0] + kLeafCells * u[1] + kLeafCells * kLeafCells * u[2]) * 8 + dir));
+    }
+
+private:
+    Lattice l_;
+};
+
+/// Joins the leaves' vertices (each owned by one leaf) and triangles into one indexed mesh.
+Mesh weld(std::vector<LeafMesh>& leaves, const Lattice& l) {
+    std::sort(leaves.begin(), leaves.end(), [](const LeafMesh& a, const LeafMesh& b) {
+        return std::tie(a.leaf[2], a.leaf[1], a.leaf[0]) < std::tie(b.leaf[2], b.leaf[1], b.leaf[0]);
+    });
+    std::vector<int32_t> leaf_at(std::size_t(l.leaves[0]) * l.leaves[1] * l.leaves[2], -1);
+    auto slot = [&](int x, int y, int z) { return (std::size_t(z) * l.leaves[1] + y) * l.leaves[0] + x; };
+    std::vector<uint32_t> base(leaves.size() + 1, 0);
+    std::size_t triangle_count = 0;
+    for (std::size_t i = 0; i < leaves.size(); ++i) {
+        leaf_at[slot(leaves[i].leaf[0], leaves[i].leaf[1], leaves[i].leaf[2])] = int32_t(i);
+        const std::size_t next = std::size_t(base[i]) + leaves[i].edges.size();
+        if (next > UINT32_MAX) throw std::length_error("the mesh has more than 2^32 vertices");
+        base[i + 1] = uint32_t(next);
+        triangle_count += leaves[i].triangles.size();
+    }
+    Mesh mesh;
+    mesh.vertices.reserve(base.back());
+    mesh.normals.reserve(base.back());
+    mesh.triangles.reserve(triangle_count);
+    for (LeafMesh& m : leaves) {
+        mesh.vertices.insert(mesh.vertices.end(), m.positions.begin(), m.positions.end());
+        mesh.normals.insert(mesh.normals.end(), m.normals.begin(), m.normals.end());
+    }
+    for (std::size_t i = 0; i < leaves.size(); ++i) {
+        const LeafMesh& m = leaves[i];
+        for (const auto& tri : m.triangles) {
+            std::array<uint32_t, 3> out{};
+            for (int v = 0; v < 3; ++v) {
+                const int owner = tri[v] >> 12;
+                const uint16_t edge = tri[v] & 0xfff;
+                std::size_t at = i;
+                if (owner != 0) {
+                    const int x = m.leaf[0] + (owner & 1), y = m.leaf[1] + ((owner >> 1) & 1), z = m.leaf[2] + (owner >> 2);
+                    const int32_t found = x < l.leaves[0] && y < l.leaves[1] && z < l.leaves[2] ? leaf_at[slot(x, y, z)] : -1;
+                    if (found < 0) throw std::logic_error("mesher: a crossing edge's owner leaf was not meshed");
+                    at = std::size_t(found);
+                }
+                const std::vector<uint16_t>& edges = leaves[at].edges;
+                const auto it = std::lower_bound(edges.begin(), edges.end(), edge);
+                if (it == edges.end() || *it != edge) throw std::logic_error("mesher: a crossing edge has no vertex");
+                out[v] = base[at] + uint32_t(it - edges.begin());
+            }
+            mesh.triangles.push_back(out);
+        }
+    }
+    // Normals where the gradient is not defined (caps on the domain's border, corners of
+    // sqrt(a² + b²)): the area-weighted normal of the triangles around the vertex.
+    std::vector<Vec> fallback;
+    for (const auto& t : mesh.triangles) {
+        bool missing = false;
+        for (uint32_t v : t) missing |= mesh.normals[v] == Vec{0, 0, 0};
+        if (!missing) continue;
+        if (fallback.empty()) fallback.assign(mesh.vertices.size(), Vec{0, 0, 0});
+        const Vec& a = mesh.vertices[t[0]];
+        const Vec& b = mesh.vertices[t[1]];
+        const Vec& c = mesh.vertices[t[2]];
+        const Vec u{b[0] - a[0], b[1] - a[1], b[2] - a[2]}, w{c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+        const Vec n{u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+        for (uint32_t v : t)
+            for (int k = 0; k < 3; ++k) fallback[v][k] += n[k];
+    }
+    if (!fallback.empty())
+        for (std::size_t v = 0; v < mesh.vertices.size(); ++v)
+            if (mesh.normals[v] == Vec{0, 0, 0}) {
+                const double len = std::hypot(fallback[v][0], fallback[v][1], fallback[v][2]);
+                if (len > 0) mesh.normals[v] = {fallback[v][0] / len, fallback[v][1] / len, fallback[v][2] / len};
+            }
+    return mesh;
+}
+
+}  // namespace
+
+Mesh extract_mesh(const ir::Graph& graph, ir::NodeId root, const Grid& grid, const EvalOptions& options,
+                  MeshStats* stats) {
+    if (grid.dims != 3) throw std::invalid_argument("a mesh needs a 3D model (X, Y, Z)");
+    if (grid.x.nodes < 2 || grid.y.nodes < 2 || grid.z.nodes < 2)
+        throw std::invalid_argument("a mesh needs at least 2 grid nodes along each axis");
+    const Mesher mesher(grid);
+    const Lattice& l = mesher.lattice();
+    int size = 1;
+    while (size < std::max({l.leaves[0], l.leaves[1], l.leaves[2]})) size *= 2;
+
+    const int threads = resolve_threads(options.threads);
+    std::vector<Worker> workers(threads);
+    struct Item {
+        Mesher::Box box;
+        std::shared_ptr<const Tape> tape;
+    };
+    std::vector<Item> items{{Mesher::Box{{0, 0, 0}, size},
+                             std::make_shared<const Tape>(compile_tape(graph, TapeSpec{{root}, {}, {}, false}))}};
+    // Breadth-first until there are enough boxes to share, then depth-first per worker.
+    const std::size_t enough = std::size_t(32) * threads;
+    while (items.size() < enough && !items.empty() && items.front().box.size > 1) {
+        std::vector<std::vector<Item>> children(items.size());
+        EvalOptions quiet = options;
+        quiet.progress = nullptr;
+        parallel_for(items.size(), quiet, [&](std::size_t i, int worker) {
+            auto simplified = std::make_shared<Tape>();
+            bool all_inside = false;
+            if (mesher.decide(items[i].box, *items[i].tape, workers[worker], *simplified, all_inside) !=
+                Mesher::Verdict::Empty)
+                for (const Mesher::Box& child : mesher.split(items[i].box)) children[i].push_back({child, simplified});
+            return std::size_t{0};
+        });
+        std::vector<Item> next;
+        for (auto& c : children) next.insert(next.end(), c.begin(), c.end());
+        items = std::move(next);
+    }
+    parallel_for(items.size(), options, [&](std::size_t i, int worker) {
+        mesher.walk(items[i].box, *items[i].tape, workers[worker], 0, options.cancel);
+        return std::size_t{0};
+    });
+    if (options.cancel && options.cancel->load()) return {};
+    std::vector<LeafMesh> leaves;
+    MeshStats total;
+    for (Worker& w : workers) {
+        std::move(w.leaves.begin(), w.leaves.end(), std::back_inserter(leaves));
+        total.boxes += w.stats.boxes;
+        total.leaves += w.stats.leaves;
+        total.node_evaluations += w.stats.node_evaluations;
+        total.edge_evaluations += w.stats.edge_evaluations;
+        total.crossing_edges += w.stats.crossing_edges;
+    }
+    workers.clear();
+    if (stats) *stats = total;
+    return weld(leaves, l);
+}
+
+}  // namespace fortu

@@ -1,0 +1,57 @@
+// interp/mesher.hpp — the zero surface of a 3D model as a closed triangle mesh (`fortu run
+// -o model.stl|.obj|.ply`).
+//
+// Why marching tetrahedra on the Kuhn split, with vertices found on the edges: it is the one
+// scheme here whose guarantees hold by construction, with no repair pass and no case the
+// code must get lucky on. Every cube of the grid is cut into the same six tetrahedra around
+// its main diagonal, so neighbouring cubes cut their shared faces the same way (a consistent
+// triangulation of space). In each tetrahedron the surface is one triangle or one quad (two
+// triangles) whose vertices lie strictly inside the edges whose ends differ in sign, so:
+// - watertight and manifold: a triangle edge lies on a tetrahedron face and is shared by
+//   exactly the two tetrahedra of that face, whose sign pattern on it is the same;
+// - no self-intersections: a tetrahedron's triangles lie inside it and meet its faces only
+//   in the segment between the face's two crossing points, which the neighbour shares;
+// - no degenerate triangles: each vertex is kept at least kEdgeMargin of its edge from the
+//   nodes, so three vertices are never collinear (they lie on three different edges);
+// - oriented outward: the orientation of each case comes from the tetrahedron's geometry,
+//   a table computed once (the side of the triangle's plane the inside nodes lie on never
+//   changes as vertices move along their edges).
+// Each vertex is the true zero of the field on its edge, to round-off: Newton's method along
+// the edge with the exact gradient (dual numbers), safeguarded by bisection; its normal is the
+// exact gradient at the last iterate (within 1e-7 of an edge of it). Dual contouring places
+// vertices inside cells and so can sit on sharp corners, but its manifold and
+// intersection-free variants need repair passes and extra vertices; we chose the guarantees
+// (README "Meshes" says what that costs at sharp edges: they are cut by up to a cell).
+//
+// Only cells the surface can cross are evaluated: an octree over leaves of 8³ cells, each box
+// tested with interval arithmetic (interval.hpp) and its tape shortened for the box
+// (box_simplify.hpp, keeping values exact), as the sign renderer does for pictures. Memory and
+// time grow with the surface's area, not the grid's volume. A solid that the domain cuts is
+// closed on the domain's outer nodes, which count as outside.
+#pragma once
+
+#include "interp/engine.hpp"
+#include "interp/ir/ir.hpp"
+#include "runtime/grid.hpp"
+#include "runtime/mesh.hpp"
+
+#include <cstddef>
+
+namespace fortu {
+
+/// What one meshing run did (for --stats and the benchmark).
+struct MeshStats {
+    std::size_t boxes = 0;            ///< octree boxes tested with intervals
+    std::size_t leaves = 0;           ///< leaves of 8³ cells whose nodes were evaluated
+    std::size_t node_evaluations = 0; ///< grid nodes evaluated (on shortened tapes)
+    std::size_t edge_evaluations = 0; ///< Newton/bisection steps on crossing edges, summed
+    std::size_t crossing_edges = 0;   ///< = vertices
+};
+
+/// The closed mesh of `root`'s zero surface on `grid` (3D, at least 2 nodes per axis; its
+/// nodes are the mesh's lattice, grid.x.nodes − 1 cells along X). Positive is inside; zero,
+/// NaN and the domain's outer nodes are outside. Throws std::invalid_argument for a 2D grid.
+Mesh extract_mesh(const ir::Graph& graph, ir::NodeId root, const Grid& grid, const EvalOptions& options = {},
+                  MeshStats* stats = nullptr);
+
+}  // namespace fortu

@@ -1,0 +1,120 @@
+// tests/unit/interp_mesher_test.cpp — the mesher's own promises, checked on its output in
+// memory: vertices on the surface to round-off with the exact normal, pruning to the cells
+// near the surface, the same mesh on any number of threads, closing at the domain's border.
+// (The end-to-end checks of written files are in cli_mesh_test.cpp, by an independent checker.)
+#include "interp_test_support.hpp"
+
+#include "interp/mesher.hpp"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <map>
+
+using namespace fortu;
+
+namespace {
+
+Grid cube(double half, int nodes) {
+    Grid g;
+    g.dims = 3;
+    g.x = g.y = g.z = Axis{-half, half, nodes};
+    return g;
+}
+
+Model model_of(const std::string& text) {
+    auto c = test::compile_text(text);
+    REQUIRE_MESSAGE(c.model, c.sink.render_all());
+    return std::move(*c.model);
+}
+
+/// Boundary edges (in one triangle), counted over undirected edges.
+std::size_t open_edges(const Mesh& m) {
+    std::map<std::pair<uint32_t, uint32_t>, int> uses;
+    for (const auto& t : m.triangles)
+        for (int k = 0; k < 3; ++k) ++uses[{std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3])}];
+    std::size_t open = 0;
+    for (const auto& [e, n] : uses) open += n != 2;
+    return open;
+}
+
+}  // namespace
+
+TEST_CASE("mesh vertices are the field's zeros to round-off, with the exact outward normal") {
+    // Radius 0.47: no zero within a thousandth of an edge of a node, where vertices are held
+    // back from the node (kEdgeMargin; radius 0.5 passes through nodes).
+    const Model m = model_of("ARGUMENT X, Y, Z\nRETURN 0.2209 - X*X - Y*Y - Z*Z\n");
+    MeshStats stats;
+    const Mesh mesh = extract_mesh(m.graph, m.root, cube(1, 33), {}, &stats);
+    REQUIRE(mesh.vertices.size() == stats.crossing_edges);
+    CHECK(mesh.triangles.size() > 1000);
+    CHECK(open_edges(mesh) == 0);
+    double worst = 0, worst_normal = 0;
+    for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
+        const auto& p = mesh.vertices[v];
+        const double r = std::hypot(p[0], p[1], p[2]);
+        worst = std::max(worst, std::fabs(r - 0.47));
+        for (int k = 0; k < 3; ++k) worst_normal = std::max(worst_normal, std::fabs(mesh.normals[v][k] - p[k] / r));
+    }
+    CHECK(worst < 1e-14);  // ~20 ulp of the radius
+    CHECK(worst_normal < 1e-7);  // the gradient at the last Newton iterate, within 1e-7 of an edge of the vertex
+}
+
+TEST_CASE("the octree evaluates only the leaves the surface crosses") {
+    const Model m = model_of("ARGUMENT X, Y, Z\nRETURN 0.01 - X*X - Y*Y - Z*Z\n");
+    MeshStats stats;
+    const Grid g = cube(1, 257);
+    const Mesh mesh = extract_mesh(m.graph, m.root, g, {}, &stats);
+    CHECK(open_edges(mesh) == 0);
+    // Interval arithmetic is exact on this function: a leaf (8³ cells) is evaluated iff its
+    // closed box reaches both inside and outside the sphere of radius 0.1.
+    std::size_t crossed = 0;
+    const double h = g.x.step();
+    for (int i = 0; i < 32; ++i)
+        for (int j = 0; j < 32; ++j)
+            for (int k = 0; k < 32; ++k) {
+                double near = 0, far = 0;
+                for (int c : {i, j, k}) {
+                    const double lo = -1 + 8 * c * h, hi = lo + 8 * h;
+                    const double n = lo > 0 ? lo : hi < 0 ? -hi : 0, f = std::max(std::fabs(lo), std::fabs(hi));
+                    near += n * n;
+                    far += f * f;
+                }
+                crossed += near < 0.01 && far > 0.01;
+            }
+    CHECK(crossed > 8);
+    CHECK(stats.leaves == crossed);
+    CHECK(stats.node_evaluations == crossed * 9 * 9 * 9);
+    CHECK(stats.node_evaluations * 100 < g.points());
+}
+
+TEST_CASE("the mesh is the same on one thread and on several") {
+    const Model m = model_of("ARGUMENT X, Y, Z\nRETURN (0.6 - X*X - Y*Y) & (0.6 - X*X - Z*Z) & (0.3 + X*Y*Z)\n");
+    EvalOptions one, two;
+    one.threads = 1;
+    two.threads = 3;
+    const Mesh a = extract_mesh(m.graph, m.root, cube(1, 41), one);
+    const Mesh b = extract_mesh(m.graph, m.root, cube(1, 41), two);
+    CHECK(a.vertices == b.vertices);
+    CHECK(a.triangles == b.triangles);
+    CHECK(a.normals == b.normals);
+}
+
+TEST_CASE("a solid the domain cuts is closed on the domain's outer nodes") {
+    const Model m = model_of("ARGUMENT X, Y, Z\nRETURN 4 - X*X - Y*Y - Z*Z\n");  // radius 2 in [-1, 1]³
+    const Mesh mesh = extract_mesh(m.graph, m.root, cube(1, 9));
+    CHECK(open_edges(mesh) == 0);
+    // The cap sits a thousandth of a cell inside each face.
+    for (const auto& p : mesh.vertices) {
+        const double outer = std::max({std::fabs(p[0]), std::fabs(p[1]), std::fabs(p[2])});
+        CHECK(outer == doctest::Approx(0.75 + 0.25 * (1 - 1e-3)).epsilon(1e-12));
+    }
+}
+
+TEST_CASE("meshing refuses a 2D grid") {
+    const Model m = model_of("ARGUMENT X, Y\nRETURN 0.25 - X*X - Y*Y\n");
+    Grid g;
+    g.dims = 2;
+    g.x = g.y = Axis{-1, 1, 9};
+    CHECK_THROWS_WITH_AS(extract_mesh(m.graph, m.root, g), "a mesh needs a 3D model (X, Y, Z)", std::invalid_argument);
+}

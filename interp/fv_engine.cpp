@@ -87,7 +87,9 @@ template <class Code>
 class FvRun {
 public:
     FvRun(const Grid& grid, const Tape& tape, std::optional<Palette> palette, const EvalOptions& options)
-        : grid_(grid), tape_(tape), codec_(palette), options_(options), stencil_(grid),
+        : grid_(grid), tape_(tape), codec_(palette),
+          resolution_(palette ? 1.0 / (palette_levels(*palette) - 1.0) : 8 * std::numeric_limits<double>::epsilon()),
+          threads_(grid.points() >= (1u << 15) ? options.threads : 1), options_(options), stencil_(grid),
           components_(grid.dims == 3 ? 5 : 4), points_(grid.points()),
           lines_(static_cast<std::size_t>(grid.rows()) * grid.slices()), stores_(tape.slot_count) {
         current_.grid = grid;
@@ -116,15 +118,15 @@ public:
     void run(const Instruction& ins) {
         const int cols = grid_.cols();
         const int arity = op_arity(ins.op);
-        std::vector<std::vector<double>> scratch(static_cast<std::size_t>(worker_count(lines_, options_)),
+        std::vector<std::vector<double>> scratch(static_cast<std::size_t>(worker_count(lines_, threads_)),
                                                  std::vector<double>(3 * static_cast<std::size_t>(cols)));
         std::vector<std::vector<double*>> slots(scratch.size(), std::vector<double*>(tape_.slot_count, zeros_.data()));
-        parallel_for(lines_, options_.threads, options_.cancel, [&](std::size_t line, int worker) {
+        parallel_for(lines_, threads_, options_.cancel, [&](std::size_t line, int worker) {
             std::vector<double*>& slot = slots[worker];
             for (int k = 0; k < arity; ++k) {
                 if (ins.constant_operands & (1u << k)) continue;
                 double* values = scratch[worker].data() + k * static_cast<std::size_t>(cols);
-                recover_line(ins.in[k], line, values);
+                recover_line(ins.in[k], line, values, ins.op == Op::Sqrt);
                 slot[ins.in[k]] = values;
             }
             slot[ins.out] = current_.values.data() + line * cols;
@@ -139,7 +141,7 @@ public:
         Field field;
         field.grid = grid_;
         field.values.assign(points_, kNaN);
-        parallel_for(lines_, options_.threads, nullptr, [&](std::size_t line, int) {
+        parallel_for(lines_, threads_, nullptr, [&](std::size_t line, int) {
             recover_line(slot, line, field.values.data() + line * grid_.cols());
         });
         return field;
@@ -169,7 +171,9 @@ private:
         return codec_.decode(codes[(components_ - 2) * points_ + p]) > 0;   // n3 (3D: n4) > 0
     }
 
-    void recover_line(uint32_t slot, std::size_t line, double* out) const {
+    /// The values of one line of `slot`; with `to_zero`, a value within the precision its
+    /// M-images hold it of 0 is made exactly 0 (what SQRT's operand needs: fv_engine.hpp).
+    void recover_line(uint32_t slot, std::size_t line, double* out, bool to_zero = false) const {
         const Code* codes = stores_[slot].data();
         const int row = static_cast<int>(line % grid_.rows()), slice = static_cast<int>(line / grid_.rows());
         const std::size_t first = line * grid_.cols();
@@ -178,8 +182,16 @@ private:
         for (int c = 0; c < grid_.cols(); ++c) {
             const std::size_t p = first + c;
             for (int k = 0; k < components_; ++k) n[k] = codec_.decode(codes[k * points_ + p]);
-            out[c] = n[components_ - 2] > 0 ? local_value(std::span<const double>(n, components_), grid_.x_at(c), y, z)
-                                            : kNaN;
+            const double x = grid_.x_at(c), value_coefficient = n[components_ - 2];
+            out[c] = value_coefficient > 0 ? local_value(std::span<const double>(n, components_), x, y, z) : kNaN;
+            if (to_zero) {
+                // The recovered value is a sum of terms n_k·coordinate over n3 (3D: n4); each
+                // n_k is known to within `resolution_`, so the value to within this bound.
+                double terms = std::abs(n[components_ - 1]) + std::abs(n[0] * x) + std::abs(n[1] * y);
+                if (components_ == 5) terms += std::abs(n[2] * z);
+                const double bound = resolution_ * (terms + std::abs(out[c] * value_coefficient)) / value_coefficient;
+                if (std::abs(out[c]) <= bound) out[c] = 0.0;
+            }
         }
     }
 
@@ -187,9 +199,9 @@ private:
         std::vector<Code>& store = stores_[slot];
         store.resize(components_ * points_);
         const int cols = grid_.cols();
-        std::vector<std::vector<double>> scratch(static_cast<std::size_t>(worker_count(lines_, options_)),
+        std::vector<std::vector<double>> scratch(static_cast<std::size_t>(worker_count(lines_, threads_)),
                                                  std::vector<double>(5 * static_cast<std::size_t>(cols)));
-        parallel_for(lines_, options_.threads, options_.cancel, [&](std::size_t line, int worker) {
+        parallel_for(lines_, threads_, options_.cancel, [&](std::size_t line, int worker) {
             const int row = static_cast<int>(line % grid_.rows()), slice = static_cast<int>(line / grid_.rows());
             double* n[5];
             for (int k = 0; k < 5; ++k) n[k] = scratch[worker].data() + k * static_cast<std::size_t>(cols);
@@ -208,6 +220,11 @@ private:
     const Grid& grid_;
     const Tape& tape_;
     Codec<Code> codec_;
+    /// How well a stored component is known: a palette's half step 1/(P−1), or a few ulps.
+    double resolution_;
+    /// Small grids on one thread: an instruction's two passes would otherwise start threads
+    /// for a few microseconds of work each (prospero.vm has 7866 instructions).
+    int threads_;
     const EvalOptions& options_;
     FvStencil stencil_;
     int components_;

@@ -17,6 +17,12 @@
 // the operations. Numbers (constants) enter as exact immediates ("multiplication by a
 // number", S1), coordinates X, Y, Z as the M-images of their planes.
 //
+// SQRT's operand is taken as 0 where the recovered value is within the precision of its
+// M-images of 0 (§2.2: "OP must handle √ of a negative argument (clamp at 0)"): a FLOZ is
+// exactly 0 on its segment, and the recovered value there is ±(rounding or palette step),
+// whose root would be 1e-8 (unquantised) or NaN instead of 0. Clearly negative operands stay
+// invalid points, as in the exact engines.
+//
 // The order and the memory come from the voxel engine's tape (tape.hpp): its instructions in
 // order, its slots as M-image stores, so a store is reused once its value's last use has
 // passed and memory holds only the M-images later nodes still need.

@@ -168,7 +168,7 @@ TEST_CASE("fv: steps come in order of computation, with the definitions' values 
         CHECK(step.values.values.size() == 25);
     };
     const Field last = evaluate_grid(model.graph, model.root, grid, *fv(MimageStorage::Grey8), options);
-    CHECK(names == std::vector<std::string>{"B", "A", "C", "RETURN"});
+    CHECK(names == std::vector<std::string>{"A", "B", "C", "RETURN"});
     CHECK(indices == std::vector<int>{1, 2, 3, 4});
     CHECK(last.values.size() == 25);
 }

@@ -26,25 +26,31 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 /// One component as stored: a palette code, or the double itself. An invalid node is stored
 /// as code 0 in every image (palette_encode of NaN): its value coefficient then decodes to
 /// −1, which no plane has (fv_model.hpp orients every plane so that coefficient is > 0).
+/// palette_encode and palette_decode (runtime/palette.hpp), inlined here: they run for
+/// every component of every node of every operation.
 template <class Code>
 class Codec {
 public:
-    explicit Codec(std::optional<Palette> palette) : palette_(palette) {
-        if (palette_ == Palette::Grey8)
+    explicit Codec(std::optional<Palette> palette) : top_(palette ? palette_levels(*palette) - 1.0 : 0.0) {
+        if (palette == Palette::Grey8)
             for (std::uint32_t m = 0; m < 256; ++m) grey_[m] = palette_decode(m, Palette::Grey8);
     }
     Code encode(double n) const {
-        if constexpr (std::is_floating_point_v<Code>) return n;
-        else return static_cast<Code>(palette_encode(n, *palette_));
+        if constexpr (std::is_floating_point_v<Code>) {
+            return n;
+        } else {
+            if (std::isnan(n)) return 0;
+            return static_cast<Code>(std::round(top_ * (1.0 + std::clamp(n, -1.0, 1.0)) / 2.0));
+        }
     }
     double decode(Code m) const {
         if constexpr (std::is_floating_point_v<Code>) return m;
         else if constexpr (sizeof(Code) == 1) return grey_[m];
-        else return palette_decode(m, *palette_);
+        else return 2.0 * m / top_ - 1.0;
     }
 
 private:
-    std::optional<Palette> palette_;
+    double top_;
     double grey_[256] = {};
 };
 

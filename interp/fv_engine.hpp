@@ -18,7 +18,8 @@
 // number", S1), coordinates X, Y, Z as the M-images of their planes.
 //
 // SQRT's operand is taken as 0 where the recovered value is within the precision of its
-// M-images of 0 (§2.2: "OP must handle √ of a negative argument (clamp at 0)"): a FLOZ is
+// M-images of 0, or below 0 by a small multiple of it (§2.2: "OP must handle √ of a
+// negative argument (clamp at 0)"): a FLOZ is
 // exactly 0 on its segment, and the recovered value there is ±(rounding or palette step),
 // whose root would be 1e-8 (unquantised) or NaN instead of 0. Clearly negative operands stay
 // invalid points, as in the exact engines.

@@ -116,8 +116,9 @@ TEST_CASE("fv: unquantised, the values equal the exact engines' on every example
         CAPTURE(path.string());
         const Model model = compile_with_stdlib(read_file(path), path.string());
         const Grid grid = model_grid(model, model.dims() == 3 ? std::array<int, 3>{8, 8, 8} : std::array<int, 3>{24, 24, 1});
-        // Lopatka.fortu: 2.1e-9 (values to 166; which operation amplifies the recovered
-        // operands' rounding there is not yet traced).
+        // Lopatka.fortu: 2.1e-9. Its Y is shifted by 22.5, so terms like (Y² − B)² are ~3e5
+        // with slopes ~5e4, while the result is ~166: a recovered value is exact to the
+        // rounding of its plane's terms (slope × coordinate), not of the value itself.
         const bool amplifies = path.filename() == "Lopatka.fortu";
         CHECK(relative_difference(model, grid, *engine) <= (amplifies ? 3e-9 : 1e-12));
     }
@@ -134,7 +135,7 @@ TEST_CASE("fv: the palettes' errors on two of the papers' figures are pinned") {
     const Row rows[] = {
         {"circles_parabola.fortu", MimageStorage::Grey8, 0.1369222157517711, 0.020067594582958537, 26},
         {"circles_parabola.fortu", MimageStorage::Rgb24, 1.6387718089205805e-06, 2.8833442685892333e-07, 1},
-        {"lrfm_polygon14.fortu", MimageStorage::Grey8, 34.291589945072026, 2.9177912419720493, 1141},
+        {"lrfm_polygon14.fortu", MimageStorage::Grey8, 34.291589945072026, 2.9427060925996691, 1157},
         {"lrfm_polygon14.fortu", MimageStorage::Rgb24, 1.2600331958156907e-05, 1.7616926816682192e-06, 6},
     };
     for (const Row& row : rows) {

@@ -24,6 +24,8 @@ void StepWriter::operator()(const EvalStep& step) {
     write_field(step.values, stem + ".png", options_);
     files_.push_back(stem + ".png");
     if (!step.palette) {
+        // The EXR writer refits the planes from the values: unquantised, the stored planes
+        // pass through those values, so this equals them to rounding.
         write_mimages(step.values, stem + "_m.exr", options_);
         files_.push_back(stem + "_m.exr");
         return;

@@ -170,13 +170,6 @@ public:
         return out;
     }
 
-    /// Bytes the stores hold now.
-    std::size_t stored_bytes() const {
-        std::size_t bytes = 0;
-        for (const std::vector<Code>& s : stores_) bytes += s.size() * sizeof(Code);
-        return bytes;
-    }
-
 private:
     bool valid(const Code* codes, std::size_t p) const {
         return codec_.decode(codes[(components_ - 2) * points_ + p]) > 0;   // n3 (3D: n4) > 0
@@ -298,11 +291,6 @@ std::string storage_text(MimageStorage storage) {
         case MimageStorage::Float: return "unquantised";
     }
     return "";
-}
-
-std::size_t mimage_bytes_per_node(MimageStorage storage, int dims) {
-    const std::size_t components = dims == 3 ? 5 : 4;
-    return components * (storage == MimageStorage::Grey8 ? 1 : storage == MimageStorage::Rgb24 ? 4 : 8);
 }
 
 std::string_view FvEngine::summary() const {

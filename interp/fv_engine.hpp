@@ -56,7 +56,4 @@ private:
 /// `P = 256`, `P = 2^24` or `unquantised`.
 std::string storage_text(MimageStorage storage);
 
-/// Bytes one node's M-images take in `storage` (4 components in 2D, 5 in 3D).
-std::size_t mimage_bytes_per_node(MimageStorage storage, int dims);
-
 }  // namespace fortu

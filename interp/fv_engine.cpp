@@ -24,9 +24,10 @@ using namespace ir;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 /// How many of its own precision bounds a SQRT operand may lie below 0 and still be taken as
-/// 0 (the errors of the steps that made it accumulate; a value truly that negative is rare
-/// next to the rounding, which left Fig. 3a at 800² with 518 invalid nodes at 8 ulps alone).
-constexpr double kNegativeSlack = 1024;
+/// 0: the errors of the steps that made it add up. Unquantised, the bound is a few ulps of
+/// the plane's terms and the slack generous (at 8 ulps alone Fig. 3a at 800² kept 518
+/// invalid nodes); in a palette the bound is already a whole code step.
+constexpr double kNegativeSlackUnquantised = 1024, kNegativeSlackPalette = 4;
 
 /// One component as stored: a palette code, or the double itself. An invalid node is stored
 /// as code 0 in every image (palette_encode of NaN): its value coefficient then decodes to
@@ -100,6 +101,7 @@ public:
     FvRun(const Grid& grid, const Tape& tape, std::optional<Palette> palette, const EvalOptions& options)
         : grid_(grid), tape_(tape), codec_(palette),
           resolution_(palette ? 1.0 / (palette_levels(*palette) - 1.0) : 8 * std::numeric_limits<double>::epsilon()),
+          negative_slack_(palette ? kNegativeSlackPalette : kNegativeSlackUnquantised),
           threads_(grid.points() >= (1u << 15) ? options.threads : 1), options_(options), stencil_(grid),
           components_(grid.dims == 3 ? 5 : 4), points_(grid.points()),
           lines_(static_cast<std::size_t>(grid.rows()) * grid.slices()), stores_(tape.slot_count) {
@@ -196,7 +198,7 @@ private:
                 const double bound = resolution_ * (terms + std::abs(out[c] * value_coefficient)) / value_coefficient;
                 // A negative operand also carries the errors of the steps before this one:
                 // below 0 by up to kNegativeSlack bounds it is taken as 0, not as invalid.
-                if (std::abs(out[c]) <= bound || (out[c] < 0 && -out[c] <= kNegativeSlack * bound)) out[c] = 0.0;
+                if (std::abs(out[c]) <= bound || (out[c] < 0 && -out[c] <= negative_slack_ * bound)) out[c] = 0.0;
             }
         }
     }
@@ -228,6 +230,7 @@ private:
     Codec<Code> codec_;
     /// How well a stored component is known: a palette's half step 1/(P−1), or a few ulps.
     double resolution_;
+    double negative_slack_;
     /// Small grids on one thread: an instruction's two passes would otherwise start threads
     /// for a few microseconds of work each (prospero.vm has 7866 instructions).
     int threads_;

@@ -28,7 +28,7 @@ constexpr int kMaxSteps = 16;
 constexpr int kVoxelStepRepeats = 15;   // E3's voxel cells take milliseconds: more runs, steadier medians
 constexpr double kDeadline = 540, kQuickDeadline = 60;   // the acceptance: under 10 minutes
 constexpr double kFitMinSeconds = 0.01;   // E3 classic cells faster than this are fixed overhead
-// The fv engine (the papers' method, P = 256) takes ~100x the voxel engine's time per node:
+// The fv engine (the papers' method, P = 256) takes ~1000x the voxel engine's time:
 // its cells run once each, or they alone would take most of the run.
 MeasureOptions fv_measure(MeasureOptions m) {
     m.repeat = 1;

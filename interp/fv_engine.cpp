@@ -46,7 +46,8 @@ public:
             return n;
         } else {
             if (std::isnan(n)) return 0;
-            return static_cast<Code>(std::round(top_ * (1.0 + std::clamp(n, -1.0, 1.0)) / 2.0));
+            // round() of a value >= 0 as a truncation of it + 0.5: no library call.
+            return static_cast<Code>(top_ * (1.0 + std::clamp(n, -1.0, 1.0)) / 2.0 + 0.5);
         }
     }
     double decode(Code m) const {

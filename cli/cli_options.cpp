@@ -4,6 +4,7 @@
 // option and what was expected.
 #include "cli/cli_options.hpp"
 
+#include "cli/fv_options.hpp"
 #include "cli/option_table.hpp"
 
 #include "runtime/grid.hpp"
@@ -126,6 +127,7 @@ void add_engine_options(OptionTable& t, CliOptions& o, EngineChoice& choice, boo
     t.flag("--no-hoist", "the voxel engine computes X-only and Y-only sub-expressions\n"
                          "at every point instead of once per column/row (to compare)",
            [&o] { o.engine_settings.hoist = false; });
+    if (grids) add_fv_options(t, o);
     if (grids)
         t.option("--threads", "N", "worker threads (default: all cores)",
                  [&o](const std::string& v) { o.threads = parse_threads(v); });
@@ -222,6 +224,7 @@ void check_combinations(CliOptions& o, const EngineChoice& choice) {
         throw UsageError(fmt::format("--sign-only runs the interval renderer; it does not combine with --engine {}",
                                      o.engine->name()));
     if (choice.sign_only) o.engine = &engine_named("sign");
+    check_fv_options(o);
     if (o.engine->capabilities().sign_only && !o.mimages.empty())
         throw UsageError(fmt::format("{} computes no values; the M-images need them (drop one of the two)",
                                      choice.sign_only ? "--sign-only" : fmt::format("--engine {}", o.engine->name())));

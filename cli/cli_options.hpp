@@ -38,6 +38,8 @@ struct CliOptions {
     bool float32 = false;                      ///< --float32 for .npy output
     bool ascii = false;                        ///< --ascii for .stl output
     IrStage stage = IrStage::Lower;            ///< --stage: what `fortu ir` prints
+    std::string steps;                         ///< --steps: the folder for each definition's M-images
+    const Engine* compare = nullptr;           ///< --compare: the engine the result is measured against
 };
 
 /// Parses argv (without the program name). Throws UsageError.

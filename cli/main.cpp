@@ -4,7 +4,9 @@
 // runtime/ writers. Exit status: 0 success, 1 model error, 2 usage error.
 #include "cli/cli_options.hpp"
 #include "cli/commands.hpp"
+#include "cli/compare_report.hpp"
 #include "cli/data_paths.hpp"
+#include "cli/fv_steps.hpp"
 #include "cli/mesh_output.hpp"
 #include "cli/model_setup.hpp"
 #include "cli/point_report.hpp"
@@ -160,6 +162,9 @@ int command_run(const CliOptions& o) {
     const Grid grid = make_grid(*model, o);
     if (is_mesh_output(o.output)) return run_mesh_output(*model, grid, o, compile_seconds);
     if (!classic_within_budget(*model, o, double(grid.points()))) return kExitUsage;
+    CliOptions reference_options = o;
+    if (o.compare) reference_options.engine = o.compare;
+    if (o.compare && !classic_within_budget(*model, reference_options, double(grid.points()))) return kExitUsage;
 
     const std::unique_ptr<Engine> engine = o.engine->tuned(o.engine_settings);
     const EngineCapabilities can = engine->capabilities();
@@ -167,6 +172,15 @@ int command_run(const CliOptions& o) {
     EvalOptions eval;
     eval.threads = o.threads;
     eval.progress = [&](std::size_t n) { progress.advance(n); };
+    std::optional<StepWriter> steps;
+    if (!o.steps.empty()) {
+        eval.steps = model->definitions;
+        eval.steps.emplace_back("RETURN", model->root);
+        OutputOptions step_output;
+        if (o.slice) step_output.slice = *o.slice;
+        steps.emplace(o.steps, eval.steps.size(), step_output);
+        eval.on_step = [&steps](const EvalStep& step) { (*steps)(step); };
+    }
     Stopwatch clock;
     Field field = evaluate_grid(*model, grid, *engine, eval);
     const double eval_seconds = clock.seconds();
@@ -192,8 +206,15 @@ int command_run(const CliOptions& o) {
         return kExitModelError;
     }
     const double write_seconds = write_clock.seconds();
+    if (o.compare) {
+        const std::unique_ptr<Engine> reference = o.compare->tuned(o.engine_settings);
+        EvalOptions quiet;
+        quiet.threads = o.threads;
+        const Field expected = evaluate_grid(*model, grid, *reference, quiet);
+        std::cout << compare_report(field, engine->description(), expected, reference->description());
+    }
 
-    if (!o.stats && o.output.empty() && o.mimages.empty() && o.contour.empty()) {
+    if (!o.stats && o.output.empty() && o.mimages.empty() && o.contour.empty() && !o.compare && o.steps.empty()) {
         std::cout << fmt::format("{} {} with {} in {}: inside {}, boundary {}, outside {}, invalid {}; "
                                  "values in [{}, {}] (write them with -o FILE)\n",
                                  o.positional[0], grid_text(grid), engine->name(),

@@ -10,6 +10,7 @@
 #include "interp/model.hpp"
 #include "runtime/field.hpp"
 #include "runtime/grid.hpp"
+#include "runtime/palette.hpp"
 
 #include <array>
 #include <atomic>
@@ -25,11 +26,26 @@
 
 namespace fortu {
 
+/// One named definition as an engine with `steps` computed it (EvalOptions::on_step).
+struct EvalStep {
+    int index = 0;                  ///< 1, 2, ... in the order the engine computed them
+    std::string_view name;          ///< the definition's name
+    const Field& values;            ///< its values at every node of the grid
+    /// Its M-images as the engine stores them, decoded: n1..n4 (3D: n1..n5), one array per
+    /// component in image order; NaN at invalid nodes.
+    const std::vector<std::vector<double>>& components;
+    std::optional<Palette> palette; ///< the palette they are stored in; nullopt: unquantised
+};
+
 /// What every engine takes for a grid evaluation.
 struct EvalOptions {
     int threads = 0;                                   ///< 0: all cores
     std::function<void(std::size_t points)> progress;  ///< called as tiles/rows complete
     const std::atomic<bool>* cancel = nullptr;         ///< set to stop early (REPL Ctrl-C)
+    /// Engines with `steps`: the definitions (Model::definitions) to hand to on_step as each
+    /// is computed, in the engine's order of computation.
+    std::vector<std::pair<std::string, ir::NodeId>> steps;
+    std::function<void(const EvalStep&)> on_step;
 };
 
 /// Node values exchanged with an engine that has `known_and_kept` (the REPL's incremental
@@ -59,17 +75,28 @@ struct EngineCapabilities {
     /// Computes X-only sub-expressions once per grid column and those without X once per
     /// row on wide grids (hoist.hpp), as `--stats` and `fortu ir --stage hoist` report.
     bool hoists = false;
+    /// Stores every intermediate result in a palette it can choose (--palette: P = 256,
+    /// P = 2^24 or unquantised).
+    bool palette = false;
+    /// Hands out each named definition's values and M-images as it computes them
+    /// (EvalOptions::on_step; --steps).
+    bool steps = false;
 };
 
 /// The voxel engine's number type: float64 (default: values identical to the classic
 /// engine's) or float32 (twice the lanes per vector; see README "Performance" for the tolerance).
 enum class Precision { Float64, Float32 };
 
-/// What the command line tunes (--precision, --no-hoist); each engine takes what applies to
-/// it and ignores the rest (Engine::tuned).
+/// How an engine with `palette` stores M-images (--palette): quantised to one of the
+/// papers' palettes, or unquantised doubles.
+enum class MimageStorage { Grey8, Rgb24, Float };
+
+/// What the command line tunes (--precision, --no-hoist, --palette); each engine takes what
+/// applies to it and ignores the rest (Engine::tuned).
 struct EngineSettings {
     Precision precision = Precision::Float64;
     bool hoist = true;
+    std::optional<MimageStorage> storage{};   ///< unset: the engine's default
 };
 
 struct PointValue {
@@ -84,6 +111,8 @@ public:
     virtual std::string_view name() const = 0;
     /// One line for --help.
     virtual std::string_view summary() const = 0;
+    /// The name with the settings that change its results (`fv, P = 256`), for reports.
+    virtual std::string description() const { return std::string(name()); }
     virtual EngineCapabilities capabilities() const = 0;
     /// This engine with `settings` applied where they concern it.
     virtual std::unique_ptr<Engine> tuned(const EngineSettings& settings) const = 0;

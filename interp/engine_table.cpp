@@ -5,6 +5,7 @@
 #include "interp/engine.hpp"
 
 #include "interp/classic_engine.hpp"
+#include "interp/fv_engine.hpp"
 #include "interp/sign_render.hpp"
 #include "interp/voxel_engine.hpp"
 
@@ -15,9 +16,10 @@ const ClassicEngine kClassic;
 const VoxelEngine kVoxel;
 const VoxelEngine kVoxelFloat32({.precision = Precision::Float32});
 const SignEngine kSign;
+const FvEngine kFv;
 
 /// In the order help texts and `fortu bench` list them.
-const Engine* const kEngines[] = {&kClassic, &kVoxel, &kVoxelFloat32, &kSign};
+const Engine* const kEngines[] = {&kClassic, &kVoxel, &kVoxelFloat32, &kSign, &kFv};
 
 }  // namespace
 

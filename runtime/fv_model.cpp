@@ -106,12 +106,6 @@ std::array<double, 5> fv_hyperplane(const std::array<double, 4>& p0, const std::
     return normalise<5>({minor(0), -minor(1), minor(2), -minor(3), minor(4)}, 3);
 }
 
-double local_value(std::span<const double> n, double x, double y, double z) {
-    assert(n.size() == 4 || n.size() == 5);
-    if (n.size() == 4) return -(n[0] * x + n[1] * y + n[3]) / n[2];
-    return -(n[0] * x + n[1] * y + n[2] * z + n[4]) / n[3];
-}
-
 namespace {
 
 // The stencil's edges run along the axes, so the plane of formula 1.1.3 (§1.2's hyperplane)

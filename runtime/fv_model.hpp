@@ -33,7 +33,11 @@ std::array<double, 5> fv_hyperplane(const std::array<double, 4>& p0, const std::
 /// The local function of one node: 4 components → z = −(n1·x + n2·y + n4)/n3 (fv-method.md
 /// §1.1 item 6); 5 components → u = −(n1·x + n2·y + n3·z + n5)/n4 (§1.2). `z` is ignored
 /// in 2D. NaN for an invalid node.
-double local_value(std::span<const double> n, double x, double y, double z = 0.0);
+/// Inline: the fv engine reads every operand of every operation through it.
+inline double local_value(std::span<const double> n, double x, double y, double z = 0.0) {
+    if (n.size() == 4) return -(n[0] * x + n[1] * y + n[3]) / n[2];
+    return -(n[0] * x + n[1] * y + n[2] * z + n[4]) / n[3];
+}
 
 /// The components of one node of `field`: n1..n4 in 2D (the 5th entry is 0), n1..n5 in 3D.
 /// The stencil is the triangle p, p+e_x, p+e_y (3D: the tetrahedron p, p+e_x, p+e_y, p+e_z)

@@ -28,6 +28,12 @@ constexpr int kMaxSteps = 16;
 constexpr int kVoxelStepRepeats = 15;   // E3's voxel cells take milliseconds: more runs, steadier medians
 constexpr double kDeadline = 540, kQuickDeadline = 60;   // the acceptance: under 10 minutes
 constexpr double kFitMinSeconds = 0.01;   // E3 classic cells faster than this are fixed overhead
+// The fv engine (the papers' method, P = 256) takes ~1000x the voxel engine's time:
+// its cells run once each, or they alone would take most of the run.
+MeasureOptions fv_measure(MeasureOptions m) {
+    m.repeat = 1;
+    return m;
+}
 
 struct Experiment {
     Experiment(std::string id_in, std::string title_in) : id(std::move(id_in)), title(std::move(title_in)) {}
@@ -107,20 +113,21 @@ Experiment e1_fig3a(Context& ctx) {
     e.cells.push_back(run_cell(ctx, "s1_fig3a_floz.fortu", *floz, bench_grid(*floz, size), engine_named("voxel"), m));
     e.cells.push_back(run_cell(ctx, "s1_fig3a_floz.fortu", *floz, bench_grid(*floz, size), engine_named("classic"), m));
     e.cells.push_back(run_cell(ctx, "s1_fig3a_formula.fortu", *formula, bench_grid(*formula, size), engine_named("voxel"), m));
-    const char* paper[] = {"17 min 29 s (1049 s)", "1 min 51 s (111 s)", "—", "—"};
+    e.cells.push_back(run_cell(ctx, "s1_fig3a_floz.fortu", *floz, bench_grid(*floz, size), engine_named("fv"), fv_measure(m)));
+    const char* paper[] = {"17 min 29 s (1049 s)", "1 min 51 s (111 s)", "—", "—", "1 min 51 s (111 s)"};
     const char* what[] = {"classic, formula (3)", "voxel, FLOZ-construction", "classic, FLOZ-construction",
-                          "voxel, formula (3)"};
+                          "voxel, formula (3)", "fv (the papers' method, P = 256), FLOZ-construction"};
     e.markdown = fmt::format("Grid {}x{}{}.\n\n| cell | operations per point | ours (median) | paper |\n|---|---|---|---|\n",
                              size, size, quick_note(ctx, "800x800"));
-    for (int i = 0; i < 4; ++i)
+    for (int i = 0; i < 5; ++i)
         e.markdown += fmt::format("| {} | {} | {} | {} |\n", what[i], format_operations(e.cells[i].operations_per_point),
                                   time_md(e.cells[i]), paper[i]);
     const double ratio = cell_seconds(e.cells[0]) / e.cells[1].median;
     const double floz_ratio = cell_seconds(e.cells[2]) / e.cells[1].median;
     e.markdown += fmt::format(
         "\nRatio classic formula (3) / voxel FLOZ: ours {:.3g}, paper {:.3g}. Classic / voxel on the same "
-        "FLOZ-construction: {:.3g}.\n",
-        ratio, kPaperFig3aClassic / kPaperFig3aVoxel, floz_ratio);
+        "FLOZ-construction: {:.3g}. Classic formula (3) / fv FLOZ (the papers' two methods): {:.3g}.\n",
+        ratio, kPaperFig3aClassic / kPaperFig3aVoxel, floz_ratio, cell_seconds(e.cells[0]) / e.cells[4].median);
     e.summary_json = fmt::format(
         "{{\"size\": [{0}, {0}], \"paper_classic_seconds\": {1}, \"paper_voxel_seconds\": {2}, "
         "\"paper_ratio\": {3}, \"ratio_classic_formula_over_voxel_floz\": {4}, "
@@ -148,18 +155,25 @@ Experiment e2_polygon(Context& ctx) {
     const Grid grid = bench_grid(*model, size);
     e.cells.push_back(run_cell(ctx, "lrfm_polygon14.fortu", *model, grid, engine_named("voxel"), ctx.options.measure));
     e.cells.push_back(run_cell(ctx, "lrfm_polygon14.fortu", *model, grid, engine_named("classic"), ctx.options.measure));
+    e.cells.push_back(run_cell(ctx, "lrfm_polygon14.fortu", *model, grid, engine_named("fv"), fv_measure(ctx.options.measure)));
     const int steps = std::max(1, r_operation_count(*model));
     const double total = e.cells[0].median, per_step = total / steps;
+    const double fv_total = e.cells[2].median, fv_per_step = fv_total / steps;
     e.markdown = fmt::format(
         "Grid {0}x{0}{1}; {2} flozation steps (R-operations in the model).\n\n"
         "| | ours | paper |\n|---|---|---|\n"
         "| voxel flozation, total | {3} | ≤ 30 s |\n| voxel, per step | {4} | ≈ 2 s |\n"
-        "| classic (all-analytic) | {5} | ~100× slower than the recursive formula |\n",
-        size, quick_note(ctx, "400x400"), steps, time_md(e.cells[0]), format_duration(per_step), time_md(e.cells[1]));
+        "| classic (all-analytic) | {5} | ~100× slower than the recursive formula |\n"
+        "| fv (the papers' method, P = 256), total | {6} | ≤ 30 s |\n| fv, per step | {7} | ≈ 2 s |\n"
+        "| fv, peak memory (the whole process) | {8} | — |\n",
+        size, quick_note(ctx, "400x400"), steps, time_md(e.cells[0]), format_duration(per_step), time_md(e.cells[1]),
+        time_md(e.cells[2]), format_duration(fv_per_step), format_bytes(e.cells[2].peak_rss_bytes));
     e.summary_json = fmt::format(
         "{{\"size\": [{0}, {0}], \"steps\": {1}, \"voxel_seconds\": {2}, \"voxel_seconds_per_step\": {3}, "
-        "\"paper_total_seconds_max\": {4}, \"paper_seconds_per_step\": {5}}}",
-        size, steps, json_number(total), json_number(per_step), kPaperPolygonTotal, kPaperPolygonStep);
+        "\"paper_total_seconds_max\": {4}, \"paper_seconds_per_step\": {5}, \"fv_seconds\": {6}, "
+        "\"fv_seconds_per_step\": {7}}}",
+        size, steps, json_number(total), json_number(per_step), kPaperPolygonTotal, kPaperPolygonStep,
+        json_number(fv_total), json_number(fv_per_step));
     return e;
 }
 
@@ -177,7 +191,7 @@ Experiment e3_steps(Context& ctx, const std::string& out_dir) {
     voxel.repeat = std::max(voxel.repeat, kVoxelStepRepeats);   // millisecond cells: more runs for a steady median
     // t_*: ln(CPU time) or CPU time, fitted; w_*: the same from wall time, printed beside.
     std::vector<double> n_classic, t_classic, w_classic, n_all_classic, t_all_classic, w_all_classic;
-    std::vector<double> n_voxel, t_voxel, w_voxel;
+    std::vector<double> n_voxel, t_voxel, w_voxel, n_fv, t_fv;
     double previous_seconds = -1, previous_operations = 0;   // the last classic cell run
     bool stopped = false;
     std::string rows;
@@ -194,6 +208,8 @@ Experiment e3_steps(Context& ctx, const std::string& out_dir) {
     std::cerr << fmt::format("bench: floz_steps_1..{} voxel {}x{}, {} interleaved rounds ...\n", models.size(), size,
                              size, voxel.repeat);
     const std::vector<BenchCell> voxel_cells = measure_interleaved(series, engine_named("voxel"), voxel);
+    std::cerr << fmt::format("bench: floz_steps_1..{} fv {}x{} ...\n", models.size(), size, size);
+    const std::vector<BenchCell> fv_cells = measure_interleaved(series, engine_named("fv"), fv_measure(voxel));
     for (std::size_t i = 0; i < models.size(); ++i) {
         const int n = int(i) + 1;
         const std::string& name = series[i].name;
@@ -231,12 +247,16 @@ Experiment e3_steps(Context& ctx, const std::string& out_dir) {
                 w_classic.push_back(std::log(c.median));
             }
         }
-        rows += fmt::format("| {} | {} | {} | {} | {} |\n", n, format_operations(c.operations_per_point), time_md(c),
-                            format_operations(v.operations_per_point), time_md(v));
+        e.cells.push_back(fv_cells[i]);
+        n_fv.push_back(n);
+        t_fv.push_back(fv_cells[i].cpu_median);
+        rows += fmt::format("| {} | {} | {} | {} | {} | {} |\n", n, format_operations(c.operations_per_point), time_md(c),
+                            format_operations(v.operations_per_point), time_md(v), time_md(fv_cells[i]));
     }
     if (n_classic.size() < 3) { n_classic = n_all_classic; t_classic = t_all_classic; w_classic = w_all_classic; }
     const auto classic_fit = fit_line(n_classic, t_classic);
     const auto voxel_fit = fit_line(n_voxel, t_voxel);
+    const auto fv_fit = fit_line(n_fv, t_fv);
     const auto classic_wall = fit_line(n_classic, w_classic);
     const auto voxel_wall = fit_line(n_voxel, w_voxel);
     const double g = classic_fit ? std::exp(classic_fit->slope) : std::nan("");
@@ -248,11 +268,12 @@ Experiment e3_steps(Context& ctx, const std::string& out_dir) {
     plot.y_label = "CPU time (s), one thread";
     plot.log_y = true;
     PlotSeries sc{"classic (median)"}, sv{"voxel (median)"}, fc{fmt::format("classic fit: x{:.2f} per step", g), true},
-        fv{"voxel fit: straight line", true};
+        fv{"voxel fit: straight line", true}, sf{"fv, P = 256 (one run)"};
     for (const BenchCell& c : e.cells) {
         const double n = std::stod(c.model.substr(c.model.rfind('_') + 1));
         if (c.skipped) continue;
-        (c.engine->capabilities().expanded_tree_cost ? sc : sv).points.emplace_back(n, c.cpu_median);
+        (c.engine == &engine_named("fv") ? sf : c.engine->capabilities().expanded_tree_cost ? sc : sv)
+            .points.emplace_back(n, c.cpu_median);
     }
     if (classic_fit)
         for (double n : n_classic) fc.points.emplace_back(n, std::exp(classic_fit->intercept + classic_fit->slope * n));
@@ -260,14 +281,15 @@ Experiment e3_steps(Context& ctx, const std::string& out_dir) {
         for (double n : n_voxel) fv.points.emplace_back(n, voxel_fit->intercept + voxel_fit->slope * n);
     sc.colour = fc.colour = 0;
     sv.colour = fv.colour = 2;
-    plot.series = {sc, fc, sv, fv};
+    sf.colour = 1;
+    plot.series = {sc, fc, sv, fv, sf};
     write_plot_svg(plot, (std::filesystem::path(out_dir) / "e3_steps.svg").string());
 
     e.markdown = fmt::format(
         "Generated models: the FLOZ-construction W = W & FLOZ2(...) along an open regular 24-gon, n = 1..{0}, grid "
         "{1}x{1}, one thread; the voxel cells are timed in interleaved rounds (every n once per round). Classic cells stop once the next is estimated (from the previous cell's time and the "
         "operation counts) over {2}; the rest are listed with their estimates.\n\n"
-        "| n | classic ops/point | classic | voxel ops/point | voxel |\n|---|---|---|---|---|\n{3}\n",
+        "| n | classic ops/point | classic | voxel ops/point | voxel | fv (P = 256, one run) |\n|---|---|---|---|---|---|\n{3}\n",
         kMaxSteps, size, format_duration(cap), rows);
     e.markdown += "The fits use each cell's median **CPU time** (the process's, one thread): it measures the "
                   "engine's work, while wall time also counts waiting for a core that other jobs hold; the "
@@ -285,17 +307,23 @@ Experiment e3_steps(Context& ctx, const std::string& out_dir) {
             format_duration(std::max(0.0, voxel_fit->intercept)), format_duration(voxel_fit->slope), voxel_fit->r2,
             voxel_fit->points, voxel_wall ? format_duration(voxel_wall->slope) : "?", voxel_wall ? voxel_wall->r2 : 0.0,
             voxel_fit->r2 >= 0.98 ? "yes" : "no");
+    if (fv_fit)
+        e.markdown += fmt::format(
+            "- fv (the papers' method, P = 256): CPU time = {} + {} per step, straight-line fit **R² {:.4f}** over {} "
+            "cells, one run each\n",
+            format_duration(std::max(0.0, fv_fit->intercept)), format_duration(fv_fit->slope), fv_fit->r2, fv_fit->points);
     e.markdown += "\n![E3](e3_steps.svg)\n";
     e.summary_json = fmt::format(
         "{{\"size\": [{0}, {0}], \"cell_cap_seconds\": {1}, \"classic_growth_factor\": {2}, \"classic_fit_r2\": {3}, "
         "\"classic_fit_cells\": {4}, \"voxel_seconds_per_step\": {5}, \"voxel_intercept_seconds\": {6}, "
         "\"voxel_fit_r2\": {7}, \"fitted_time\": \"cpu\", \"classic_growth_factor_wall\": {8}, "
-        "\"voxel_fit_r2_wall\": {9}}}",
+        "\"voxel_fit_r2_wall\": {9}, \"fv_seconds_per_step\": {10}, \"fv_fit_r2\": {11}}}",
         size, json_number(cap), json_number(g), json_number(classic_fit ? classic_fit->r2 : std::nan("")),
         classic_fit ? classic_fit->points : 0, json_number(voxel_fit ? voxel_fit->slope : std::nan("")),
         json_number(voxel_fit ? voxel_fit->intercept : std::nan("")),
         json_number(voxel_fit ? voxel_fit->r2 : std::nan("")), json_number(g_wall),
-        json_number(voxel_wall ? voxel_wall->r2 : std::nan("")));
+        json_number(voxel_wall ? voxel_wall->r2 : std::nan("")), json_number(fv_fit ? fv_fit->slope : std::nan("")),
+        json_number(fv_fit ? fv_fit->r2 : std::nan("")));
     return e;
 }
 
@@ -311,10 +339,15 @@ Experiment e4_resolution(Context& ctx, const std::string& out_dir, const Experim
     m.budget = std::numeric_limits<double>::infinity();
     std::string rows;
     std::vector<double> pc, tc, pv, tv;
-    std::vector<BenchCell> classic_cells, voxel_cells;
+    std::vector<BenchCell> classic_cells, voxel_cells, fv_cells;
     for (int size : sizes) {
         const Grid grid = bench_grid(*model, size);
         const BenchCell* cells[2] = {nullptr, nullptr};
+        const BenchCell* fv_cell = nullptr;
+        for (const BenchCell& c : e1.cells)
+            if (c.model == "s1_fig3a_floz.fortu" && c.engine == &engine_named("fv") && c.points() == grid.points())
+                fv_cell = &c;
+        fv_cells.push_back(fv_cell ? *fv_cell : run_cell(ctx, "s1_fig3a_floz.fortu", *model, grid, engine_named("fv"), fv_measure(m)));
         for (int k = 0; k < 2; ++k) {
             const Engine& engine = k == 0 ? engine_named("classic") : engine_named("voxel");
             for (const BenchCell& c : e1.cells)   // E1 measured these at its size: reuse them
@@ -330,32 +363,41 @@ Experiment e4_resolution(Context& ctx, const std::string& out_dir, const Experim
         }
     }
     const PointsFit classic_fit = fit_time_per_point(classic_cells), voxel_fit = fit_time_per_point(voxel_cells);
+    const PointsFit fv_points_fit = fit_time_per_point(fv_cells);
+    for (const BenchCell& c : fv_cells) e.cells.push_back(c);   // after the rows' cells: e.cells[2i], [2i+1] stay theirs
     const auto& fc = classic_fit.fit;
     const auto& fv = voxel_fit.fit;
     for (std::size_t i = 0; i < sizes.size(); ++i)
-        rows += fmt::format("| {0}x{0} | {1} | {2} | {3} |\n", sizes[i], format_count(std::uint64_t(pc[i])),
-                            time_md(e.cells[2 * i]), time_md(e.cells[2 * i + 1]));
+        rows += fmt::format("| {0}x{0} | {1} | {2} | {3} | {4} |\n", sizes[i], format_count(std::uint64_t(pc[i])),
+                            time_md(e.cells[2 * i]), time_md(e.cells[2 * i + 1]), time_md(fv_cells[i]));
     Plot plot;
     plot.title = "E4: time against resolution (S1 Fig. 3a FLOZ-construction)";
     plot.x_label = "grid points";
     plot.y_label = "wall time (s)";
     plot.log_x = plot.log_y = true;
-    PlotSeries sc{"classic (median)"}, sv{"voxel (median)"};
+    PlotSeries sc{"classic (median)"}, sv{"voxel (median)"}, sf{"fv, P = 256"};
     for (std::size_t i = 0; i < pc.size(); ++i) {
         if (!classic_cells[i].skipped) sc.points.emplace_back(pc[i], tc[i]);
         if (!voxel_cells[i].skipped) sv.points.emplace_back(pv[i], tv[i]);
+        sf.points.emplace_back(pv[i], fv_cells[i].median);
     }
-    plot.series = {sc, sv};
+    sf.colour = 1;
+    plot.series = {sc, sv, sf};
     write_plot_svg(plot, (std::filesystem::path(out_dir) / "e4_resolution.svg").string());
-    e.markdown = "Model s1_fig3a_floz.fortu, both engines.\n\n| grid | points | classic | voxel |\n|---|---|---|---|\n" + rows + "\n";
-    e.markdown += points_fit_text("classic", classic_fit) + points_fit_text("voxel", voxel_fit);
+    e.markdown = "Model s1_fig3a_floz.fortu, the three engines (fv: the papers' method, P = 256, one run per "
+                 "cell).\n\n| grid | points | classic | voxel | fv |\n|---|---|---|---|---|\n" + rows + "\n";
+    e.markdown += points_fit_text("classic", classic_fit) + points_fit_text("voxel", voxel_fit) +
+                  points_fit_text("fv", fv_points_fit);
     e.markdown += "\n![E4](e4_resolution.svg)\n";
     e.summary_json = fmt::format(
         "{{\"classic_seconds_per_point\": {}, \"classic_fit_r2\": {}, \"voxel_seconds_per_point\": {}, "
-        "\"voxel_fit_r2\": {}, \"classic_fit_cells\": {}, \"classic_skipped_cells\": {}}}",
+        "\"voxel_fit_r2\": {}, \"classic_fit_cells\": {}, \"classic_skipped_cells\": {}, \"fv_seconds_per_point\": {}, "
+        "\"fv_fit_r2\": {}}}",
         json_number(fc ? fc->slope : std::nan("")), json_number(fc ? fc->r2 : std::nan("")),
         json_number(fv ? fv->slope : std::nan("")), json_number(fv ? fv->r2 : std::nan("")),
-        classic_fit.cells - classic_fit.skipped, classic_fit.skipped);
+        classic_fit.cells - classic_fit.skipped, classic_fit.skipped,
+        json_number(fv_points_fit.fit ? fv_points_fit.fit->slope : std::nan("")),
+        json_number(fv_points_fit.fit ? fv_points_fit.fit->r2 : std::nan("")));
     return e;
 }
 

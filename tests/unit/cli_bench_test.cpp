@@ -45,7 +45,7 @@ TEST_CASE("fortu bench: usage errors exit 2 before any work") {
     CHECK(run_fortu("bench").status == 2);
     CHECK(run_fortu("bench").out == "fortu: error: 'fortu bench': give at least one MODEL, or --paper, or --performance\n");
     CHECK(run_fortu("bench " + m + " --engines classic,gpu").out ==
-          "fortu: error: --engines: unknown engine 'gpu' (classic, voxel, voxel-f32, sign)\n");
+          "fortu: error: --engines: unknown engine 'gpu' (classic, voxel, voxel-f32, sign, fv)\n");
     CHECK(run_fortu("bench " + m + " --sizes 100,1").out == "fortu: error: --sizes: '1' is not an integer in 2..20000\n");
     CHECK(run_fortu("bench " + m + " --sizes 10,").out == "fortu: error: --sizes: '' is not an integer in 2..20000\n");
     CHECK(run_fortu("bench " + m + " --repeat 0").out == "fortu: error: --repeat: '0' is not an integer in 1..1000\n");
@@ -189,7 +189,7 @@ TEST_CASE("fortu bench: the variants' and the suites' options") {
     CHECK(error("--performance --out ''") == "fortu: error: --out: give a folder name\n");
     CHECK(error("--performance --data") == "fortu: error: 'fortu bench': --data needs a value\n");
     CHECK(error(m + " --engines voxel-f64") ==
-          "fortu: error: --engines: unknown engine 'voxel-f64' (classic, voxel, voxel-f32, sign)\n");
+          "fortu: error: --engines: unknown engine 'voxel-f64' (classic, voxel, voxel-f32, sign, fv)\n");
     const auto help = run_fortu("bench --help", ".", true);
     CHECK(help.out.find("  fortu bench --performance [--quick] [--data DIR]") != std::string::npos);
     CHECK(help.out.find("  --mimages ") != std::string::npos);

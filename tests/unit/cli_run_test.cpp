@@ -40,7 +40,7 @@ TEST_CASE("usage errors exit 2 with a clear message") {
           "fortu: error: --size: 100000x100000 is 10,000,000,000 points, more than the 268,435,456 fortu allocates\n");
     CHECK(run_fortu("run " + m + " --domain nan:1").out == "fortu: error: --domain: 'nan' is not a finite number\n");
     CHECK(run_fortu("run " + m + " --domain 1:0").out == "fortu: error: --domain: range '1:0' needs MIN < MAX\n");
-    CHECK(run_fortu("run " + m + " --engine turbo").out == "fortu: error: --engine: unknown engine 'turbo' (use classic, voxel, voxel-f32 or sign)\n");
+    CHECK(run_fortu("run " + m + " --engine turbo").out == "fortu: error: --engine: unknown engine 'turbo' (use classic, voxel, voxel-f32, sign or fv)\n");
     CHECK(run_fortu("run " + m + " --rsystem alpha=3").status == 2);
     CHECK(run_fortu("run " + m + " -o out.xyz").status == 2);
     CHECK(run_fortu("run " + m + " --bogus").out == "fortu: error: unknown option '--bogus'\nsee fortu run --help\n");

@@ -231,6 +231,39 @@ TEST_CASE("perturb: HEIGHTMAP_PLANE raises the plane by the table over its recta
     CHECK(at(m, 3, 3, 0.6) < 0);
 }
 
+TEST_CASE("perturb: HEIGHTMAP_PLANE_CUT is S8 eq. 6: F & (h - threshold) & DP") {
+    // Written out on its own: the R0 conjunction a + b - sqrt(a² + b²), folded left, of the
+    // plane's F = Z0 + h - Z, the threshold test h - THRESHOLD and the rectangle DP.
+    const std::vector<double> table{0, 0.2, 0, 0.6, 1, 0.4, 0, 0.3, 0};   // 3 rows of 3
+    const double z0 = 0.5, x1 = -1, y1 = -0.5, x2 = 1.5, y2 = 1, threshold = 0.25;
+    const Model m = compile_with_stdlib("INCLUDE 'perturb.fortu'; ARGUMENT X, Y, Z; CONSTANT T = " +
+                                        fortu_array(table) +
+                                        "; RETURN HEIGHTMAP_PLANE_CUT(X, Y, Z, 0.5, -1, -0.5, 1.5, 1, T, 3, 0.25);");
+    auto r0 = [](double a, double b) { return a + b - std::sqrt(a * a + b * b); };
+    auto height = [&](double x, double y) {   // S8's bilinear interpolation, inside DP
+        const double u = (x - x1) / (x2 - x1) * 2, v = (y2 - y) / (y2 - y1) * 2;
+        const int mu = std::min(static_cast<int>(std::floor(u)), 1), mv = std::min(static_cast<int>(std::floor(v)), 1);
+        const double s = u - mu;
+        auto t = [&](int row, int col) { return table[row * 3 + col]; };
+        const double f0 = (1 - s) * t(mv, mu) + s * t(mv, mu + 1), f1 = (1 - s) * t(mv + 1, mu) + s * t(mv + 1, mu + 1);
+        return f0 + (f1 - f0) * (v - mv);
+    };
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> px(x1, x2), py(y1, y2), pz(0, 2);
+    for (int k = 0; k < 100; ++k) {
+        const double x = px(rng), y = py(rng), z = pz(rng), h = height(x, y);
+        const double dp = r0(r0(r0(x - x1, x2 - x), y - y1), y2 - y);
+        CAPTURE(x);
+        CAPTURE(y);
+        CAPTURE(z);
+        CHECK(at(m, x, y, z) == doctest::Approx(r0(r0(z0 + h - z, h - threshold), dp)).epsilon(1e-12));
+    }
+    CHECK(at(m, -0.25, 0.75, 0.5) > 0);    // h = 0.45 above the threshold, under the surface
+    CHECK(at(m, 1.25, 0.75, 0.5) < 0);     // h = 0.1 under the threshold: cut away though Z < Z0 + h
+    CHECK(at(m, 2, 0.25, 0) < 0);          // outside DP: cut away though under the plane
+    CHECK(at(m, 0.25, 0.25, 1.5) == 0);    // the peak node, h = 1: on the surface
+}
+
 TEST_CASE("singular: the criterion vanishes exactly at the corners (fv-method.md §5.1)") {
     const Model m = compile_with_stdlib(
         "INCLUDE 'singular.fortu'; ARGUMENT X, Y;\n"

@@ -173,8 +173,8 @@ TEST_CASE("known node values are read instead of computed; kept ones are written
 TEST_CASE("the engine table: names, capabilities, tuning") {
     std::vector<std::string_view> names;
     for (const Engine* e : engine_table()) names.push_back(e->name());
-    CHECK(names == std::vector<std::string_view>{"classic", "voxel", "voxel-f32", "sign"});
-    CHECK(engine_names(", ", " or ") == "classic, voxel, voxel-f32 or sign");
+    CHECK(names == std::vector<std::string_view>{"classic", "voxel", "voxel-f32", "sign", "fv"});
+    CHECK(engine_names(", ", " or ") == "classic, voxel, voxel-f32, sign or fv");
     CHECK(engine_names(", ", " or ", [](const EngineCapabilities& c) { return c.point; }) == "classic, voxel or voxel-f32");
     std::vector<std::string_view> exact;
     for (const Engine& e : exact_engines()) exact.push_back(e.name());

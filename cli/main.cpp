@@ -6,6 +6,7 @@
 #include "cli/commands.hpp"
 #include "cli/data_paths.hpp"
 #include "cli/point_report.hpp"
+#include "cli/run_grid.hpp"
 
 #include "grammar/diagnostic.hpp"
 #include "interp/classic_cost.hpp"
@@ -53,17 +54,7 @@ std::optional<Model> load_model(const CliOptions& o, bool show_notes, double& se
     return model;
 }
 
-Grid make_grid(const Model& model, const CliOptions& o) {
-    if (model.dims() == 2 && o.size.size() == 3)
-        throw UsageError(fmt::format("--size: the model has {} argument(s); give N or WxH", model.arguments.size()));
-    const Grid grid = model_grid(model, grid_nodes(model, o.size), o.domain);
-    const double points = double(grid.cols()) * grid.rows() * grid.slices();
-    if (points > double(kMaxGridPoints))
-        throw UsageError(fmt::format("--size: {}x{}{} is {} points, more than the {} fortu allocates",
-                                     grid.cols(), grid.rows(), grid.dims == 3 ? fmt::format("x{}", grid.slices()) : "",
-                                     format_operations(points), format_operations(double(kMaxGridPoints))));
-    return grid;
-}
+Grid make_grid(const Model& model, const CliOptions& o) { return run_grid(model, o); }
 
 std::string grid_text(const Grid& g) {
     return g.dims == 3 ? fmt::format("{}x{}x{}", g.cols(), g.rows(), g.slices())
@@ -145,6 +136,7 @@ int command_singular(const CliOptions& o) {
     if (!model) return kExitModelError;
     CliOptions search = o;
     if (search.size.empty()) search.size = {model->dims() == 3 ? 48 : 401};
+    search.slice.reset();   // the search covers the cube; --slice picks the picture's slice
     const Grid grid = make_grid(*model, search);
     const SingularSet singular = find_singular_set(*model, grid);
     const std::vector<SingularPoint>& points = singular.points;
@@ -163,9 +155,9 @@ int command_singular(const CliOptions& o) {
                                  c.point[0], c.point[1], c.cells);
     if (!o.output.empty()) {
         OutputOptions out;
-        if (o.slice) out.slice = *o.slice;
+        if (o.slice && grid.dims == 3) out.slice = z_slice_number(grid, *o.slice);
         const Field field = evaluate_grid(*model, grid, default_engine());
-        const int slice = grid.dims == 3 ? (o.slice ? *o.slice : grid.slices() / 2) : 0;
+        const int slice = grid.dims == 3 ? (o.slice ? out.slice : grid.slices() / 2) : 0;
         for (const SingularPoint& s : points)
             if (grid.dims == 2 || std::fabs(s.point[2] - grid.z_at(slice)) <= grid.z.step() / 2)
                 out.markers.push_back({s.point[0], s.point[1]});
@@ -179,10 +171,39 @@ int command_singular(const CliOptions& o) {
     return 0;
 }
 
+/// `fortu run` of a 3D model to a picture without --slice: the shaded view of the solid.
+int run_shaded_view(const Model& model, const CliOptions& o) {
+    if (!o.mimages.empty() || !o.contour.empty())
+        throw UsageError("--mimages and --contour draw a plane: add --slice z=V (or write the shaded view on its own)");
+    const std::array<AxisRange, 3> box = run_box(model, o);
+    const std::array<int, 2> size = view_size(o);
+    if (double(size[0]) * size[1] > double(kMaxGridPoints))
+        throw UsageError(fmt::format("--size: a {}x{} picture is more than fortu allocates", size[0], size[1]));
+    EvalOptions eval;
+    eval.threads = o.threads;
+    Stopwatch clock;
+    const SurfaceImage image = render_shaded_view(model.graph, model.root, box, o.view, size[0], size[1], eval);
+    const double seconds = clock.seconds();
+    try {
+        write_surface_picture(image, o.output);
+    } catch (const OutputError& e) {
+        std::cerr << fmt::format("fortu: error: {}\n", e.what());
+        return kExitModelError;
+    }
+    if (o.stats)
+        std::cout << fmt::format("model: {}\nshaded view: {}x{}, azimuth {}, elevation {}, x [{}, {}], y [{}, {}], "
+                                 "z [{}, {}]\ntime: render {:.3f} s\npeak memory: {}\n",
+                                 o.positional[0], size[0], size[1], o.view.azimuth, o.view.elevation, box[0].min,
+                                 box[0].max, box[1].min, box[1].max, box[2].min, box[2].max, seconds,
+                                 format_bytes(peak_rss_bytes()));
+    return 0;
+}
+
 int command_run(const CliOptions& o) {
     double compile_seconds = 0;
     std::optional<Model> model = load_model(o, false, compile_seconds);
     if (!model) return kExitModelError;
+    if (wants_shaded_view(*model, o)) return run_shaded_view(*model, o);
     const Grid grid = make_grid(*model, o);
     if (!classic_within_budget(*model, o, double(grid.points()))) return kExitUsage;
 
@@ -204,14 +225,13 @@ int command_run(const CliOptions& o) {
                                  stats.invalid == 1 ? "" : "s");
     Stopwatch write_clock;
     OutputOptions out;
-    if (o.slice) out.slice = *o.slice;
     out.npy_float32 = o.float32;
-    if (o.slice && grid.dims == 3 && *o.slice >= grid.slices())
-        throw UsageError(fmt::format("--slice: {} is outside 0..{}", *o.slice, grid.slices() - 1));
     try {
-        if (!o.output.empty()) write_field(field, o.output, out);
-        if (!o.mimages.empty()) write_mimages(field, o.mimages, out);
-        if (!o.contour.empty()) write_field(field, o.contour, out);
+        // Pictures of an x or y plane show it with Z up; values files keep the grid's axes.
+        const bool picture = !o.output.empty() && output_format_for(o.output)->kind != OutputKind::Field;
+        if (!o.output.empty()) write_field(picture ? plane_picture(field) : field, o.output, out);
+        if (!o.mimages.empty()) write_mimages(plane_picture(field), o.mimages, out);
+        if (!o.contour.empty()) write_field(plane_picture(field), o.contour, out);
     } catch (const OutputError& e) {
         std::cerr << fmt::format("fortu: error: {}\n", e.what());
         return kExitModelError;

@@ -155,10 +155,14 @@ void add_picture_options(OptionTable& t, CliOptions& o) {
 }
 
 void add_run_outputs(OptionTable& t, CliOptions& o) {
-    t.option("--mimages", "FILE", "the M-images: FILE.exr, or FILE_%d.png for grey PNGs",
+    t.option("--mimages", "FILE", "the M-images: FILE.exr, FILE.vti (with the value), or\nFILE_%d.png for grey PNGs",
              [&o](const std::string& v) { o.mimages = v; });
     t.option("--contour", "FILE.svg", "the zero contour as SVG", [&o](const std::string& v) { o.contour = v; });
     t.flag("--float32", ".npy as float32 instead of float64", [&o] { o.float32 = true; });
+    t.option("--band", "W", ".vdb: keep the nodes with |value| <= W cells (default 3)", [&o](const std::string& v) {
+        o.vdb_band = parse_double(v, "--band");
+        if (!(o.vdb_band > 0)) throw UsageError("--band must be positive");
+    });
     t.flag("--stats", "nodes, sharing, classic cost, time per stage, points/s,\ninvalid points, peak memory",
            [&o] { o.stats = true; });
 }

@@ -40,6 +40,7 @@ struct CliOptions {
     double budget = 1e10;                      ///< classic operations per run before refusing (~1 min here)
     int threads = 0;
     bool float32 = false;                      ///< --float32 for .npy output
+    double vdb_band = 3.0;                     ///< --band: the .vdb narrow band, in cells
     IrStage stage = IrStage::Lower;            ///< --stage: what `fortu ir` prints
 };
 

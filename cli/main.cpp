@@ -226,6 +226,7 @@ int command_run(const CliOptions& o) {
     Stopwatch write_clock;
     OutputOptions out;
     out.npy_float32 = o.float32;
+    out.vdb_band = o.vdb_band;
     try {
         // Pictures of an x or y plane show it with Z up; values files keep the grid's axes.
         const bool picture = !o.output.empty() && output_format_for(o.output)->kind != OutputKind::Field;

@@ -17,7 +17,7 @@
 
 namespace fortu {
 
-/// Half-width of the search cube, centred at the origin.
+/// Half-width of the largest search cube, centred at the origin (cubes of 1, 4, 16, ... are tried first).
 inline constexpr double kAutoDomainSearch = 1024.0;
 
 /// The box (one range per argument, the rest [-1, 1]), or the reason there is none

@@ -7,6 +7,9 @@
 #include "runtime/exr.hpp"
 #include "runtime/image_compare.hpp"
 #include "runtime/npy.hpp"
+#include "runtime/nrrd.hpp"
+#include "runtime/vdb.hpp"
+#include "runtime/vti.hpp"
 #include "runtime/numeric_text_compare.hpp"
 #include "runtime/output_error.hpp"
 #include "runtime/output_path.hpp"
@@ -34,6 +37,10 @@ const std::vector<OutputFormat> kFormats{
      .compare = compare_numeric_text},
     {.name = "SVG", .extensions = {"svg"}, .kind = OutputKind::Contour, .write = write_contour_svg,
      .compare = compare_numeric_text},
+    {.name = "VTK ImageData", .extensions = {"vti"}, .kind = OutputKind::Volume, .holds = "ParaView; value [+ n1..n5]",
+     .takes_mimages = true, .write = write_vti, .compare = compare_vti},
+    {.name = "NRRD", .extensions = {"nrrd"}, .kind = OutputKind::Volume, .write = write_nrrd, .compare = compare_nrrd},
+    {.name = "OpenVDB", .extensions = {"vdb"}, .kind = OutputKind::Volume, .holds = "narrow band, --band", .write = write_vdb},
 };
 
 /// How the usage text names a kind.

@@ -27,6 +27,11 @@ struct OutputOptions {
     /// Pictures: points {x, y} in world coordinates to mark with a red ring (singular
     /// points, probes); points outside the domain are skipped.
     std::vector<std::array<double, 2>> markers;
+    /// Volume formats that can hold them (.vti): add the FV model's components n1.. as
+    /// point data (`--mimages m.vti`).
+    bool mimages = false;
+    /// .vdb: the narrow band's half-width, in cells of the grid.
+    double vdb_band = 3.0;
 };
 
 }  // namespace fortu

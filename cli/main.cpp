@@ -173,8 +173,6 @@ int command_singular(const CliOptions& o) {
 
 /// `fortu run` of a 3D model to a picture without --slice: the shaded view of the solid.
 int run_shaded_view(const Model& model, const CliOptions& o) {
-    if (!o.mimages.empty() || !o.contour.empty())
-        throw UsageError("--mimages and --contour draw a plane: add --slice z=V (or write the shaded view on its own)");
     const std::array<AxisRange, 3> box = run_box(model, o);
     const std::array<int, 2> size = view_size(o);
     if (double(size[0]) * size[1] > double(kMaxGridPoints))
@@ -203,7 +201,14 @@ int command_run(const CliOptions& o) {
     double compile_seconds = 0;
     std::optional<Model> model = load_model(o, false, compile_seconds);
     if (!model) return kExitModelError;
-    if (wants_shaded_view(*model, o)) return run_shaded_view(*model, o);
+    if (wants_shaded_view(*model, o)) {
+        // The view needs no grid; --mimages and --contour still draw the cube's middle slice.
+        const int status = run_shaded_view(*model, o);
+        if (status != 0 || (o.mimages.empty() && o.contour.empty())) return status;
+        CliOptions rest = o;
+        rest.output.clear();
+        return command_run(rest);
+    }
     const Grid grid = make_grid(*model, o);
     if (!classic_within_budget(*model, o, double(grid.points()))) return kExitUsage;
 
@@ -227,6 +232,7 @@ int command_run(const CliOptions& o) {
     OutputOptions out;
     out.npy_float32 = o.float32;
     out.vdb_band = o.vdb_band;
+    out.npy_sidecar = true;
     try {
         // Pictures of an x or y plane show it with Z up; values files keep the grid's axes.
         const bool picture = !o.output.empty() && output_format_for(o.output)->kind != OutputKind::Field;

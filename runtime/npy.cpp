@@ -103,7 +103,7 @@ void write_npy(const Field& field, const OutputTarget& target, const OutputOptio
         else write_values<double>(field, out);
     });
     // A 3D array says nothing of where its nodes are: the sidecar does (README "Outputs").
-    if (field.grid.dims == 3) {
+    if (field.grid.dims == 3 && options.npy_sidecar) {
         const Grid& g = field.grid;
         write_file_atomically(target.path + ".json", [&](OutputFile& out) {
             out.write(fmt::format(

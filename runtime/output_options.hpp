@@ -15,6 +15,9 @@ struct OutputOptions {
     int slice = -1;
     /// npy: little-endian float32 (`<f4`) instead of float64 (`<f8`).
     bool npy_float32 = false;
+    /// npy of a 3D grid: also write NAME.npy.json with the first node and steps (what a
+    /// user's run does; golden references go without).
+    bool npy_sidecar = false;
     /// Pictures: draw the zero contour in black.
     bool draw_contour = true;
     /// Pictures: shading bands, this many per unit of the colour scale (0 = none).

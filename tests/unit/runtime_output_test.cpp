@@ -83,7 +83,11 @@ TEST_CASE("output_format_for follows the extension, case-insensitively") {
     CHECK(name("dir.png/file") == "none");
     CHECK(name("") == "none");
     CHECK(supported_output_extensions() ==
-          std::vector<std::string>{"png", "jpg", "jpeg", "tif", "tiff", "bmp", "exr", "npy", "csv", "svg"});
+          std::vector<std::string>{"png", "jpg", "jpeg", "tif", "tiff", "bmp", "exr", "npy", "csv", "svg", "vti",
+                                   "nrrd", "vdb"});
+    CHECK(output_format_for("a.vti")->kind == OutputKind::Volume);
+    CHECK(output_format_for("a.vti")->takes_mimages);
+    CHECK_FALSE(output_format_for("a.nrrd")->takes_mimages);
     CHECK(output_format_for("a.bmp")->kind == OutputKind::Picture);
     CHECK(output_format_for("a.exr")->kind == OutputKind::MImages);
     CHECK(output_format_for("a.npy")->kind == OutputKind::Field);
@@ -96,10 +100,11 @@ TEST_CASE("the usage text and the golden kinds are generated from the table") {
     CHECK(output_formats_usage(4) == "picture: .png .jpg .tif .bmp\n"
                                      "    M-images: .exr (value + n1..n4 channels)\n"
                                      "    values: .npy .csv (x,y[,z],value lines)\n"
-                                     "    zero contour: .svg");
-    CHECK(output_extensions_text() == ".png .jpg .tif .bmp .exr .npy .csv .svg");
-    CHECK(output_extensions_text(", ") == ".png, .jpg, .tif, .bmp, .exr, .npy, .csv, .svg");
-    CHECK(golden_output_kinds() == std::vector<std::string>{"png", "exr", "npy", "csv", "svg"});
+                                     "    zero contour: .svg\n"
+                                     "    volume: .vti (ParaView; value [+ n1..n5]) .nrrd .vdb (narrow band, --band)");
+    CHECK(output_extensions_text() == ".png .jpg .tif .bmp .exr .npy .csv .svg .vti .nrrd .vdb");
+    CHECK(output_extensions_text(", ") == ".png, .jpg, .tif, .bmp, .exr, .npy, .csv, .svg, .vti, .nrrd, .vdb");
+    CHECK(golden_output_kinds() == std::vector<std::string>{"png", "exr", "npy", "csv", "svg", "vti", "nrrd"});
     CHECK(golden_output_format("npy") == output_format_for("x.npy"));
     CHECK(golden_output_format("jpg") == nullptr);   // lossy: no golden comparator
     CHECK(golden_output_format("xyz") == nullptr);
@@ -274,7 +279,7 @@ TEST_CASE("write_field: unknown extension, directory as destination, empty grid"
     ScratchDir dir;
     CHECK_THROWS_WITH_AS(write_field(y_plus_x(), dir / "out.xyz"),
                          ("cannot write '" + (dir / "out.xyz") +
-                          "': unknown output format '.xyz' (known: png, jpg, jpeg, tif, tiff, bmp, exr, npy, csv, svg)")
+                          "': unknown output format '.xyz' (known: png, jpg, jpeg, tif, tiff, bmp, exr, npy, csv, svg, vti, nrrd, vdb)")
                              .c_str(),
                          OutputError);
     fs::create_directory(dir / "taken.csv");

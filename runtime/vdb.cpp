@@ -33,7 +33,6 @@ const VdbModule* vdb_module(std::string& error) {
 }  // namespace
 
 void write_vdb(const Field& field, const OutputTarget& target, const OutputOptions& options) {
-    if (field.grid.dims != 3) throw OutputError(target.path, ".vdb holds 3D models only (this one is 2D)");
     std::string error;
     const VdbModule* module = vdb_module(error);
     if (!module) throw OutputError(target.path, error);

@@ -1,4 +1,4 @@
-// runtime/vdb.hpp — a 3D field as an OpenVDB FloatGrid (.vdb), sparse: only the narrow band
+// runtime/vdb.hpp — a field as an OpenVDB FloatGrid (a 2D one as one slice) (.vdb), sparse: only the narrow band
 // of nodes with |value| ≤ band × cell is stored (active voxels); elsewhere inactive tiles
 // carry ±band × cell with the side's sign (positive inside, fortu's convention, the opposite
 // of OpenVDB's level sets). The transform maps voxel (i, j, k) to the grid's node: origin +

@@ -128,7 +128,7 @@ TEST_CASE("resolve_output: the format and whether the path is a series, decided 
     CHECK(slices.file(7) == "slice_007.svg");
     CHECK_THROWS_WITH_AS(resolve_output("out.xyz"),
                          "cannot write 'out.xyz': unknown output format '.xyz' (known: png, jpg, jpeg, tif, tiff, bmp, "
-                         "exr, npy, csv, svg)",
+                         "exr, npy, csv, svg, vti, nrrd, vdb)",
                          OutputError);
 }
 

@@ -10,6 +10,7 @@
 #include "runtime/grid.hpp"
 #include "runtime/output.hpp"
 #include "runtime/output_formats.hpp"
+#include "runtime/output_path.hpp"
 
 #include <charconv>
 #include <cmath>
@@ -65,14 +66,6 @@ int parse_threads(const std::string& s) {
     return threads;
 }
 
-int parse_slice(const std::string& s) {
-    int v = 0;
-    auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-    if (ec != std::errc() || ptr != s.data() + s.size() || v < 0)
-        throw UsageError(fmt::format("--slice: '{}' is not a slice number", s));
-    return v;
-}
-
 std::string checked_output(const std::string& path) {
     if (!output_format_for(path)) {
         std::string extensions;
@@ -97,12 +90,17 @@ void add_model_options(OptionTable& t, CliOptions& o) {
 }
 
 void add_grid_options(OptionTable& t, CliOptions& o) {
-    t.option("--size", "N|WxH|WxHxD", "grid nodes per axis (both ends included); default: RECTBMP,\n"
-                                      "else 256x256 (2D) or 64x64x64 (3D)",
+    t.option("--size", "N|WxH|WxHxD", "grid nodes per axis (both ends included); N: N along the\n"
+                                      "longest axis, square cells; default: RECTBMP, else 256x256\n"
+                                      "(2D) or 64x64x64 (3D); a shaded view: its picture size",
              [&o](const std::string& v) { o.size = parse_size(v); });
-    t.option("--domain", "x0:x1,y0:y1[,z0:z1]", "the box (wins over the script's ranges); default: the\n"
-                                                "script's ARGUMENT ranges or RECTANGLE, else [-1, 1]",
-             [&o](const std::string& v) { o.domain = parse_domain(v); });
+    t.option("--domain", "x0:x1,y0:y1[,z0:z1]|auto", "the box (wins over the script's ranges); default: the\n"
+                                                "script's ARGUMENT ranges or RECTANGLE, else its RANOK header\n"
+                                                "comment, else [-1, 1]; auto: found by interval subdivision",
+             [&o](const std::string& v) {
+                 o.domain_auto = v == "auto";
+                 if (!o.domain_auto) o.domain = parse_domain(v);
+             });
 }
 
 void add_engine_options(OptionTable& t, CliOptions& o, EngineChoice& choice, bool grids) {
@@ -141,19 +139,33 @@ void add_engine_options(OptionTable& t, CliOptions& o, EngineChoice& choice, boo
 }
 
 void add_picture_options(OptionTable& t, CliOptions& o) {
-    t.option("-o,--output", "FILE", output_formats_usage(0) + "\n3D pictures: a slice, or one file per slice when FILE\n"
-                                                             "contains %d",
+    t.option("-o,--output", "FILE", output_formats_usage(0) + "\n3D pictures: a shaded view (--view), a plane (--slice), or\n"
+                                                             "one file per z slice when FILE contains %d",
              [&o](const std::string& v) { o.output = checked_output(v); });
-    t.option("--slice", "K", "the z slice of a 3D picture (default: the middle one)",
-             [&o](const std::string& v) { o.slice = parse_slice(v); });
+    t.option("--slice", "z=V|x=V|y=V|K", "one plane of a 3D model, evaluated alone (its size: --size N\n"
+                                        "or WxH); K: z slice K of the --size cube. Without it a 3D\n"
+                                        "picture is a shaded view of the solid",
+             [&o](const std::string& v) { o.slice = parse_slice_choice(v); });
+    t.option("--view", "top|front|side|iso|AZ,EL", "the direction of a 3D shaded view (default iso;\n"
+                                                   "AZ: degrees about Z from the front, EL: above XY)",
+             [&o](const std::string& v) {
+                 const std::optional<ViewDirection> view = parse_view_direction(v);
+                 if (!view) throw UsageError(fmt::format("--view: '{}' is not top, front, side, iso or AZ,EL in degrees "
+                                                         "(EL from -90 to 90)", v));
+                 o.view = *view;
+             });
 }
 
 void add_run_outputs(OptionTable& t, CliOptions& o) {
-    t.option("--mimages", "FILE", "the M-images: FILE.exr, or FILE_%d.png for grey PNGs",
+    t.option("--mimages", "FILE", "the M-images: FILE.exr, FILE.vti (with the value), or\nFILE_%d.png for grey PNGs",
              [&o](const std::string& v) { o.mimages = v; });
     t.option("--contour", "FILE.svg", "the zero contour as SVG", [&o](const std::string& v) { o.contour = v; });
     t.flag("--float32", ".npy as float32 instead of float64", [&o] { o.float32 = true; });
     t.flag("--ascii", ".stl as ASCII instead of binary", [&o] { o.ascii = true; });
+    t.option("--band", "W", ".vdb: keep the nodes with |value| <= W cells (default 3)", [&o](const std::string& v) {
+        o.vdb_band = parse_double(v, "--band");
+        if (!(o.vdb_band > 0)) throw UsageError("--band must be positive");
+    });
     t.flag("--stats", "nodes, sharing, classic cost, time per stage, points/s,\ninvalid points, peak memory",
            [&o] { o.stats = true; });
 }
@@ -210,6 +222,8 @@ const CommandRow* find_command(const std::string& name) {
 
 /// Checks across options, once all are applied.
 void check_combinations(CliOptions& o, const EngineChoice& choice) {
+    if (o.slice && !o.output.empty() && is_file_series(o.output))
+        throw UsageError(fmt::format("-o: '{}' writes every z slice (%d); it does not combine with --slice", o.output));
     if (!o.mimages.empty())
         if (auto problem = mimages_path_problem(o.mimages)) throw UsageError(fmt::format("--mimages: {}", *problem));
     const OutputFormat* contour = o.contour.empty() ? nullptr : output_format_for(o.contour);

@@ -5,8 +5,10 @@
 #pragma once
 
 #include "cli/option_table.hpp"
+#include "cli/slice_choice.hpp"
 #include "interp/engine.hpp"
 #include "interp/model.hpp"
+#include "interp/shaded_view.hpp"
 #include "interp/stage_print.hpp"
 
 #include <array>
@@ -24,19 +26,22 @@ struct CliOptions {
     std::vector<std::string> positional;       ///< MODEL, then coordinates for eval
     std::vector<int> size;                     ///< --size: 1 to 3 node counts
     std::array<std::optional<AxisRange>, 3> domain;  ///< --domain
+    bool domain_auto = false;                  ///< --domain auto (run_grid.hpp)
     const Engine* engine = &default_engine();  ///< --engine (--sign-only: the sign engine)
     EngineSettings engine_settings;            ///< --precision, --no-hoist
     std::optional<RSystem> rsystem;
     std::string output;                        ///< -o
     std::string mimages;                       ///< --mimages
     std::string contour;                       ///< --contour
-    std::optional<int> slice;                  ///< --slice (3D picture outputs)
+    std::optional<SliceChoice> slice;          ///< --slice: one plane of a 3D model (run_grid.hpp)
+    ViewDirection view{45, 35.264389682754654}; ///< --view: the shaded view of a 3D picture (default iso)
     bool stats = false;
     bool force = false;
     double budget = 1e10;                      ///< classic operations per run before refusing (~1 min here)
     int threads = 0;
     bool float32 = false;                      ///< --float32 for .npy output
     bool ascii = false;                        ///< --ascii for .stl output
+    double vdb_band = 3.0;                     ///< --band: the .vdb narrow band, in cells
     IrStage stage = IrStage::Lower;            ///< --stage: what `fortu ir` prints
     std::string steps;                         ///< --steps: the folder for each definition's M-images
     const Engine* compare = nullptr;           ///< --compare: the engine the result is measured against

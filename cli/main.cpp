@@ -10,6 +10,7 @@
 #include "cli/mesh_output.hpp"
 #include "cli/model_setup.hpp"
 #include "cli/point_report.hpp"
+#include "cli/run_grid.hpp"
 
 #include "grammar/diagnostic.hpp"
 #include "interp/classic_cost.hpp"
@@ -57,7 +58,7 @@ std::optional<Model> load_model(const CliOptions& o, bool show_notes, double& se
     return model;
 }
 
-Grid make_grid(const Model& model, const CliOptions& o) { return request_grid(model, o.size, o.domain); }
+Grid make_grid(const Model& model, const CliOptions& o) { return run_grid(model, o); }
 
 int command_check(const CliOptions& o) {
     double seconds = 0;
@@ -121,6 +122,7 @@ int command_singular(const CliOptions& o) {
     if (!model) return kExitModelError;
     CliOptions search = o;
     if (search.size.empty()) search.size = {model->dims() == 3 ? 48 : 401};
+    search.slice.reset();   // the search covers the cube; --slice picks the picture's slice
     const Grid grid = make_grid(*model, search);
     const SingularSet singular = find_singular_set(*model, grid);
     const std::vector<SingularPoint>& points = singular.points;
@@ -139,9 +141,9 @@ int command_singular(const CliOptions& o) {
                                  c.point[0], c.point[1], c.cells);
     if (!o.output.empty()) {
         OutputOptions out;
-        if (o.slice) out.slice = *o.slice;
+        if (o.slice && grid.dims == 3) out.slice = z_slice_number(grid, *o.slice);
         const Field field = evaluate_grid(*model, grid, default_engine());
-        const int slice = grid.dims == 3 ? (o.slice ? *o.slice : grid.slices() / 2) : 0;
+        const int slice = grid.dims == 3 ? (o.slice ? out.slice : grid.slices() / 2) : 0;
         for (const SingularPoint& s : points)
             if (grid.dims == 2 || std::fabs(s.point[2] - grid.z_at(slice)) <= grid.z.step() / 2)
                 out.markers.push_back({s.point[0], s.point[1]});
@@ -155,10 +157,44 @@ int command_singular(const CliOptions& o) {
     return 0;
 }
 
+/// `fortu run` of a 3D model to a picture without --slice: the shaded view of the solid.
+int run_shaded_view(const Model& model, const CliOptions& o) {
+    const std::array<AxisRange, 3> box = run_box(model, o);
+    const std::array<int, 2> size = view_size(o);
+    if (double(size[0]) * size[1] > double(kMaxGridPoints))
+        throw UsageError(fmt::format("--size: a {}x{} picture is more than fortu allocates", size[0], size[1]));
+    EvalOptions eval;
+    eval.threads = o.threads;
+    Stopwatch clock;
+    const SurfaceImage image = render_shaded_view(model.graph, model.root, box, o.view, size[0], size[1], eval);
+    const double seconds = clock.seconds();
+    try {
+        write_surface_picture(image, o.output);
+    } catch (const OutputError& e) {
+        std::cerr << fmt::format("fortu: error: {}\n", e.what());
+        return kExitModelError;
+    }
+    if (o.stats)
+        std::cout << fmt::format("model: {}\nshaded view: {}x{}, azimuth {}, elevation {}, x [{}, {}], y [{}, {}], "
+                                 "z [{}, {}]\ntime: render {:.3f} s\npeak memory: {}\n",
+                                 o.positional[0], size[0], size[1], o.view.azimuth, o.view.elevation, box[0].min,
+                                 box[0].max, box[1].min, box[1].max, box[2].min, box[2].max, seconds,
+                                 format_bytes(peak_rss_bytes()));
+    return 0;
+}
+
 int command_run(const CliOptions& o) {
     double compile_seconds = 0;
     std::optional<Model> model = load_model(o, false, compile_seconds);
     if (!model) return kExitModelError;
+    if (wants_shaded_view(*model, o)) {
+        // The view needs no grid; --mimages and --contour still draw the cube's middle slice.
+        const int status = run_shaded_view(*model, o);
+        if (status != 0 || (o.mimages.empty() && o.contour.empty())) return status;
+        CliOptions rest = o;
+        rest.output.clear();
+        return command_run(rest);
+    }
     const Grid grid = make_grid(*model, o);
     if (is_mesh_output(o.output)) return run_mesh_output(*model, grid, o, compile_seconds);
     if (!classic_within_budget(*model, o, double(grid.points()))) return kExitUsage;
@@ -193,14 +229,15 @@ int command_run(const CliOptions& o) {
                                  stats.invalid == 1 ? "" : "s");
     Stopwatch write_clock;
     OutputOptions out;
-    if (o.slice) out.slice = *o.slice;
     out.npy_float32 = o.float32;
-    if (o.slice && grid.dims == 3 && *o.slice >= grid.slices())
-        throw UsageError(fmt::format("--slice: {} is outside 0..{}", *o.slice, grid.slices() - 1));
+    out.vdb_band = o.vdb_band;
+    out.npy_sidecar = true;
     try {
-        if (!o.output.empty()) write_field(field, o.output, out);
-        if (!o.mimages.empty()) write_mimages(field, o.mimages, out);
-        if (!o.contour.empty()) write_field(field, o.contour, out);
+        // Pictures of an x or y plane show it with Z up; values files keep the grid's axes.
+        const bool picture = !o.output.empty() && output_format_for(o.output)->kind != OutputKind::Field;
+        if (!o.output.empty()) write_field(picture ? plane_picture(field) : field, o.output, out);
+        if (!o.mimages.empty()) write_mimages(plane_picture(field), o.mimages, out);
+        if (!o.contour.empty()) write_field(plane_picture(field), o.contour, out);
     } catch (const OutputError& e) {
         std::cerr << fmt::format("fortu: error: {}\n", e.what());
         return kExitModelError;

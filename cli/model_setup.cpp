@@ -3,6 +3,7 @@
 
 #include "cli/option_table.hpp"
 #include "interp/classic_cost.hpp"
+#include "interp/grid_size.hpp"
 #include "interp/ir_print.hpp"
 #include "interp/vm_import.hpp"
 
@@ -28,15 +29,19 @@ std::string grid_text(const Grid& g) {
                        : fmt::format("{}x{}", g.cols(), g.rows());
 }
 
-Grid request_grid(const Model& model, const std::vector<int>& size,
-                  const std::array<std::optional<AxisRange>, 3>& domain, std::size_t max_points) {
-    if (model.dims() == 2 && size.size() == 3)
-        throw UsageError(fmt::format("--size: the model has {} argument(s); give N or WxH", model.arguments.size()));
-    const Grid grid = model_grid(model, grid_nodes(model, size), domain);
+void check_grid_points(const Grid& grid, std::size_t max_points) {
     const double points = double(grid.cols()) * grid.rows() * grid.slices();
     if (points > double(max_points))
         throw UsageError(fmt::format("--size: {} is {} points, more than the {} fortu allocates", grid_text(grid),
                                      format_operations(points), format_operations(double(max_points))));
+}
+
+Grid request_grid(const Model& model, const std::vector<int>& size,
+                  const std::array<std::optional<AxisRange>, 3>& domain, std::size_t max_points) {
+    if (model.dims() == 2 && size.size() == 3)
+        throw UsageError(fmt::format("--size: the model has {} argument(s); give N or WxH", model.arguments.size()));
+    const Grid grid = sized_grid(model, size, domain);
+    check_grid_points(grid, max_points);
     return grid;
 }
 

@@ -22,7 +22,11 @@ namespace fortu {
 std::optional<Model> compile_model(std::shared_ptr<const SourceFile> source, const CompileOptions& options,
                                    DiagnosticSink& sink);
 
-/// The grid `size` and `domain` name for `model` (engine.hpp's model_grid). Throws
+/// Throws UsageError when `grid` has more than `max_points` points.
+void check_grid_points(const Grid& grid, std::size_t max_points = kMaxGridPoints);
+
+/// The grid `size` and `domain` name for `model` (grid_size.hpp's sized_grid: one number is
+/// the node count along the longest axis, with square cells). Throws
 /// UsageError (option_table.hpp) for a 3D size on a 2D model, or more than `max_points`
 /// points (`--size: 10000x10000 is 100,000,000 points, more than the 268,435,456 fortu
 /// allocates`).

@@ -3,6 +3,7 @@
 
 #include "grammar/ast.hpp"
 #include "grammar/parse.hpp"
+#include "interp/header_domain.hpp"
 #include "interp/source_loader.hpp"
 #include "runtime/image_table.hpp"
 
@@ -915,6 +916,7 @@ std::optional<Model> compile(std::shared_ptr<const SourceFile> source, const Com
         Lowerer lowerer(options, sink, model);
         lowerer.run(source);
     }
+    apply_domain_comment(*source, model, sink);
     if (sink.error_count() != errors_before || model.root == ir::kNoNode) return std::nullopt;
     return model;
 }

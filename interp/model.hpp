@@ -37,6 +37,9 @@ struct Model {
     std::vector<std::string> arguments;                      ///< 1..3 names, in order
     std::array<std::optional<AxisRange>, 3> ranges;          ///< per argument, from the script
     std::optional<std::array<int, 2>> raster;                ///< RECTBMP(width, height)
+    /// Set when `ranges` come from the RANOK header comment (header_domain.hpp): the note,
+    /// rendered, that a run prints unless --domain replaces them.
+    std::string domain_note;
     /// Each top-level CONSTANT/VARIABLE definition whose value is an operation (name, node),
     /// in script order: the cells whose values the REPL keeps between evaluations.
     std::vector<std::pair<std::string, ir::NodeId>> definitions;

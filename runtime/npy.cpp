@@ -102,6 +102,19 @@ void write_npy(const Field& field, const OutputTarget& target, const OutputOptio
         if (float32) write_values<float>(field, out);
         else write_values<double>(field, out);
     });
+    // A 3D array says nothing of where its nodes are: the sidecar does (README "Outputs").
+    if (field.grid.dims == 3 && options.npy_sidecar) {
+        const Grid& g = field.grid;
+        write_file_atomically(target.path + ".json", [&](OutputFile& out) {
+            out.write(fmt::format(
+                "{{\n  \"shape\": [{}, {}, {}],\n  \"axes\": [\"z\", \"y\", \"x\"],\n"
+                "  \"first\": {{\"x\": {:.17g}, \"y\": {:.17g}, \"z\": {:.17g}}},\n"
+                "  \"step\": {{\"x\": {:.17g}, \"y\": {:.17g}, \"z\": {:.17g}}},\n"
+                "  \"note\": \"value[k][j][i] is at x = first.x + i*step.x, y = first.y + j*step.y, "
+                "z = first.z + k*step.z (y decreases down the rows: image order)\"\n}}\n",
+                g.slices(), g.rows(), g.cols(), g.x_at(0), g.y_at(0), g.z_at(0), g.x.step(), -g.y.step(), g.z.step()));
+        });
+    }
 }
 
 std::optional<std::vector<double>> read_npy_values(const std::string& path, const Grid& grid) {

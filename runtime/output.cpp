@@ -71,11 +71,11 @@ void write_mesh(const Mesh& mesh, const OutputTarget& target, const OutputOption
 
 std::optional<std::string> mimages_path_problem(const std::string& path) {
     const OutputFormat* format = output_format_for(path);
-    if (format && format->kind == OutputKind::MImages) return std::nullopt;
+    if (format && (format->kind == OutputKind::MImages || format->takes_mimages)) return std::nullopt;
     if (format && format->kind == OutputKind::Picture && format->lossy)
         return fmt::format("{} is lossy and would corrupt the M-image codes; use .png", format->name);
     if (!format || format->kind != OutputKind::Picture)
-        return "M-images need a .exr file or a picture series such as 'm_%d.png'";
+        return "M-images need a .exr or .vti file or a picture series such as 'm_%d.png'";
     if (!is_file_series(path))
         return "M-images are n+2 pictures: put %d in the name (e.g. 'm_%d.png') or use .exr";
     return std::nullopt;
@@ -87,6 +87,12 @@ void write_mimages(const Field& field, const std::string& path, const OutputOpti
     const OutputTarget target = resolve_output(path);
     if (target.format->kind == OutputKind::MImages) {
         target.format->write(field, target, options);
+        return;
+    }
+    if (target.format->takes_mimages) {
+        OutputOptions with_components = options;
+        with_components.mimages = true;
+        target.format->write(field, target, with_components);
         return;
     }
     const Grid& g = field.grid;

@@ -9,6 +9,9 @@
 #include "runtime/mesh_compare.hpp"
 #include "runtime/mesh_io.hpp"
 #include "runtime/npy.hpp"
+#include "runtime/nrrd.hpp"
+#include "runtime/vdb.hpp"
+#include "runtime/vti.hpp"
 #include "runtime/numeric_text_compare.hpp"
 #include "runtime/output_error.hpp"
 #include "runtime/output_path.hpp"
@@ -42,6 +45,10 @@ const std::vector<OutputFormat> kFormats{
      .compare = compare_mesh_output, .write_mesh = write_obj},
     {.name = "PLY", .extensions = {"ply"}, .kind = OutputKind::Mesh, .holds = "binary, float64",
      .compare = compare_mesh_output, .write_mesh = write_ply},
+    {.name = "VTK ImageData", .extensions = {"vti"}, .kind = OutputKind::Volume, .holds = "ParaView; value [+ n1..n5]",
+     .takes_mimages = true, .write = write_vti, .compare = compare_vti},
+    {.name = "NRRD", .extensions = {"nrrd"}, .kind = OutputKind::Volume, .write = write_nrrd, .compare = compare_nrrd},
+    {.name = "OpenVDB", .extensions = {"vdb"}, .kind = OutputKind::Volume, .holds = "narrow band, --band", .write = write_vdb},
 };
 
 /// How the usage text names a kind.

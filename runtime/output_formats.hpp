@@ -22,7 +22,7 @@ enum class OutputKind {
     Contour,   ///< the zero contour as lines (--contour)
     MImages,   ///< the value and the FV model's components n1.. in one file (--mimages)
     Mesh,      ///< the zero surface as triangles (write_mesh; mesh_io.hpp)
-    Volume,    ///< a 3D volume for viewers (no format yet)
+    Volume,    ///< a 3D volume for viewers with its origin and spacing (vti, nrrd, vdb)
 };
 
 struct OutputFormat;
@@ -74,6 +74,7 @@ struct OutputFormat {
     OutputKind kind = OutputKind::Field;
     std::string_view holds{};                    ///< for the usage text: what the file holds
     bool lossy = false;                          ///< would corrupt M-image codes
+    bool takes_mimages = false;                  ///< a Volume that also holds the M-image components (--mimages)
     OutputWriter write = nullptr;
     OutputComparator compare = nullptr;          ///< nullptr: golden tests do not offer it
     DiffWriter write_diff = nullptr;             ///< nullptr: no picture of a difference

@@ -15,6 +15,9 @@ struct OutputOptions {
     int slice = -1;
     /// npy: little-endian float32 (`<f4`) instead of float64 (`<f8`).
     bool npy_float32 = false;
+    /// npy of a 3D grid: also write NAME.npy.json with the first node and steps (what a
+    /// user's run does; golden references go without).
+    bool npy_sidecar = false;
     /// Pictures: draw the zero contour in black.
     bool draw_contour = true;
     /// Pictures: shading bands, this many per unit of the colour scale (0 = none).
@@ -29,6 +32,11 @@ struct OutputOptions {
     std::vector<std::array<double, 2>> markers;
     /// Meshes: ASCII STL instead of binary.
     bool ascii = false;
+    /// Volume formats that can hold them (.vti): add the FV model's components n1.. as
+    /// point data (`--mimages m.vti`).
+    bool mimages = false;
+    /// .vdb: the narrow band's half-width, in cells of the grid.
+    double vdb_band = 3.0;
 };
 
 }  // namespace fortu

@@ -9,6 +9,7 @@
 #include "cli/python/errors.hpp"
 #include "cli/python/interrupt.hpp"
 #include "cli/python/picture.hpp"
+#include "interp/grid_size.hpp"
 #include "interp/singular.hpp"
 #include "interp/stage_print.hpp"
 #include "interp/voxel_engine.hpp"
@@ -158,7 +159,7 @@ Grid ModelWrapper::grid_for(const Model& model, py::handle size, py::handle doma
     const std::vector<int> nodes = size_of(size);
     if (model.dims() == 2 && nodes.size() == 3)
         throw py::value_error(fmt::format("size: the model has {} argument(s); give N or (W, H)", model.arguments.size()));
-    const Grid grid = model_grid(model, grid_nodes(model, nodes), domain_of(domain));
+    const Grid grid = sized_grid(model, nodes, domain_of(domain));  // the CLI's --size: square cells
     check_points(grid.points(), max_points);
     return grid;
 }

@@ -240,7 +240,7 @@ TEST_CASE("malformed directives, missing expectations and wrong singular points 
     CHECK(r.status == 1);
     CHECK(r.out ==
           "FAIL args.fortu: line 1: expect-inside gives 3 coordinate(s); the model has 2 argument(s)\n"
-          "FAIL none.fortu: no expectations: add `// expect-...` lines, or NAME.expected.{png,exr,npy,csv,svg,stl,obj,ply} "
+          "FAIL none.fortu: no expectations: add `// expect-...` lines, or NAME.expected.{png,exr,npy,csv,svg,stl,obj,ply,vti,nrrd} "
           "files or `// golden-output` for --update to create\n"
           "FAIL singular.fortu: line 1: the singular points differ (matched within 1e-06)\n"
           "    expected, not found: (0, 0)\n"

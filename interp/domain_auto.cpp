@@ -1,0 +1,108 @@
+// interp/domain_auto.cpp — level-by-level interval subdivision of the search cube.
+#include "interp/domain_auto.hpp"
+
+#include "interp/box_simplify.hpp"
+#include "interp/interval.hpp"
+#include "interp/tape.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <queue>
+#include <fmt/format.h>
+#include <vector>
+
+namespace fortu {
+namespace {
+
+struct Cell {
+    double lo[3], hi[3];
+};
+
+constexpr std::size_t kMaxCells = 1 << 16;  ///< cells halved per bound at most
+/// A bound is settled by a cell of 1/(16 · this) of the search cube.
+constexpr double kCellsAcross = 64;
+
+
+/// The bounds of the solid within the search cube of half-width `half`: per axis and side, a
+/// best-first search that always halves the live cell reaching farthest that way, until that
+/// cell is small; nullopt when the solid reaches a face of the cube, the empty box (lo > hi)
+/// when no cell may hold it.
+std::optional<std::array<AxisRange, 3>> search(const Tape& tape, int axes, double half) {
+    std::vector<Interval> ranges;
+    auto may_hold_solid = [&](const Cell& c) {
+        evaluate_intervals(tape, {Interval{c.lo[0], c.hi[0]}, Interval{c.lo[1], c.hi[1]}, Interval{c.lo[2], c.hi[2]}},
+                           ranges);
+        return !ranges[tape.root_slot].negative();
+    };
+    Cell start{};
+    for (int a = 0; a < 3; ++a) {
+        start.lo[a] = a < axes ? -half : 0.0;
+        start.hi[a] = a < axes ? half : 0.0;
+    }
+    std::array<AxisRange, 3> box;
+    if (!may_hold_solid(start)) {
+        box[0] = AxisRange{1, -1};
+        return box;
+    }
+    const double small = 2 * half / kCellsAcross / 16;
+    for (int a = 0; a < axes; ++a)
+        for (int side = 0; side < 2; ++side) {
+            // How far a cell reaches towards this side (larger: farther).
+            auto reach = [&](const Cell& c) { return side == 0 ? -c.lo[a] : c.hi[a]; };
+            auto farther = [&](const Cell& p, const Cell& q) { return reach(p) < reach(q); };
+            std::priority_queue<Cell, std::vector<Cell>, decltype(farther)> queue(farther);
+            queue.push(start);
+            std::size_t pops = 0;
+            double bound = side == 0 ? 1e300 : -1e300;
+            while (!queue.empty()) {
+                const Cell c = queue.top();
+                queue.pop();
+                if (c.hi[0] - c.lo[0] <= small || ++pops > kMaxCells) {
+                    bound = side == 0 ? c.lo[a] : c.hi[a];
+                    break;
+                }
+                for (int child = 0; child < (1 << axes); ++child) {
+                    Cell d = c;
+                    for (int k = 0; k < axes; ++k) {
+                        const double mid = (c.lo[k] + c.hi[k]) / 2;
+                        if (child & (1 << k)) d.lo[k] = mid;
+                        else d.hi[k] = mid;
+                    }
+                    if (may_hold_solid(d)) queue.push(d);
+                }
+            }
+            if (queue.empty() && std::abs(bound) == 1e300) {
+                box[0] = AxisRange{1, -1};
+                return box;
+            }
+            if (bound <= -half || bound >= half) return std::nullopt;
+            if (side == 0) box[a].min = bound;
+            else box[a].max = bound;
+        }
+    return box;
+}
+
+}  // namespace
+
+std::variant<std::array<AxisRange, 3>, std::string> find_domain_auto(const Model& model) {
+    const int axes = static_cast<int>(model.arguments.size());
+    const Tape tape = compile_tape(model.graph, TapeSpec{{model.root}, {}, {}, /*reuse_slots=*/false});
+    // Growing cubes: far from a model, exp and friends overflow and its intervals say
+    // nothing, so the smallest cube whose faces the solid does not reach is the answer.
+    bool all_empty = true;
+    for (double half = 1; half <= kAutoDomainSearch; half *= 4) {
+        const std::optional<std::array<AxisRange, 3>> box = search(tape, axes, half);
+        if (!box) { all_empty = false; continue; }
+        if ((*box)[0].min > (*box)[0].max) continue;   // nothing in this cube; a larger one may hold it
+        return *box;
+    }
+    const std::string cube = fmt::format("[-{0}, {0}]{1}", kAutoDomainSearch, axes == 3 ? "³" : axes == 2 ? "²" : "");
+    if (all_empty)
+        return fmt::format("--domain auto: the model is negative everywhere in {} (interval arithmetic): the solid "
+                           "is empty; give --domain", cube);
+    return fmt::format("--domain auto: the solid reaches the faces of every search cube up to {}: it is unbounded "
+                       "(or larger, or its intervals too loose to bound it); give --domain", cube);
+}
+
+}  // namespace fortu

@@ -1,0 +1,44 @@
+// interp/shaded_view.hpp — a 3D model seen as a solid: the first surface along each view ray,
+// with its normal, for a shaded picture (runtime/surface_picture.hpp).
+//
+// Why: a z slice says little about a solid. Casting every ray through a dense voxel grid
+// would evaluate width × height × depth points; instead, as libfive's and Fidget's heightmap
+// renderers do, a region (a tile of pixels × a range of depths, a box in view space) is
+// evaluated once with interval arithmetic: all outside, it is skipped; all inside, its
+// pixels are hit at its front; otherwise its tape is shortened for it (box_simplify.hpp,
+// the same pass as the sign renderer's) and it is split, front half first, so the regions
+// behind a pixel already hit are never visited. Small regions evaluate their sample points
+// with the lane kernel; the hit is placed between the last outside and first inside sample
+// by the values' zero crossing, and its normal is the gradient there, exact by dual numbers
+// on the region's shortened tape (which keeps the zero set and the sign of the model, so
+// the unit normal is the model's).
+#pragma once
+
+#include "interp/engine.hpp"
+#include "interp/model.hpp"
+#include "runtime/surface_picture.hpp"
+
+#include <array>
+#include <optional>
+#include <string>
+
+namespace fortu {
+
+/// The direction the solid is seen from: azimuth about Z (0: from −Y, the front; 90: from
+/// +X, the side) and elevation above the XY plane (90: from +Z, the top), in degrees.
+struct ViewDirection {
+    double azimuth = 0.0;
+    double elevation = 0.0;
+};
+
+/// `top`, `front`, `side`, `iso` (azimuth 45, elevation 35.26) or `AZ,EL` in degrees;
+/// nullopt when malformed.
+std::optional<ViewDirection> parse_view_direction(const std::string& text);
+
+/// Renders `root` (of X, Y, Z) clipped to `box` as seen from `view`, orthographically, on a
+/// width × height picture with square pixels that fits the box's outline. Depth is sampled
+/// at one pixel's spacing.
+SurfaceImage render_shaded_view(const ir::Graph& graph, ir::NodeId root, const std::array<AxisRange, 3>& box,
+                                const ViewDirection& view, int width, int height, const EvalOptions& options = {});
+
+}  // namespace fortu

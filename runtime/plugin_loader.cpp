@@ -1,0 +1,39 @@
+// runtime/plugin_loader.cpp — dlopen of a plug-in module by its candidate paths.
+#include "runtime/plugin_loader.hpp"
+
+#include <cstdlib>
+#include <dlfcn.h>
+#include <filesystem>
+#include <vector>
+
+namespace fortu {
+
+void* load_plugin_entry(const std::string& file_name, const char* env_variable, const std::string& build_path,
+                        const char* entry, const std::string& missing_hint, std::string& error) {
+    std::vector<std::string> candidates;
+    if (const char* env = std::getenv(env_variable)) candidates.emplace_back(env);
+    std::error_code ec;
+    const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+    if (!ec) {
+        candidates.push_back((exe.parent_path() / file_name).string());
+        candidates.push_back((exe.parent_path().parent_path() / file_name).string());
+    }
+    if (!build_path.empty()) candidates.push_back(build_path);
+    error.clear();
+    for (const std::string& path : candidates) {
+        if (!std::filesystem::exists(path, ec)) continue;
+        void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+        if (!handle) {
+            error = "cannot load " + path + ": " + dlerror();
+            continue;
+        }
+        using Entry = void* (*)();
+        auto function = reinterpret_cast<Entry>(dlsym(handle, entry));
+        if (void* result = function ? function() : nullptr) return result;
+        error = "'" + path + "' is not a fortu plug-in of this build";
+    }
+    if (error.empty()) error = "cannot find " + file_name + " " + missing_hint;
+    return nullptr;
+}
+
+}  // namespace fortu

@@ -1,0 +1,44 @@
+// runtime/vdb.cpp — loads libfortu_vdb.so on first use and writes through it.
+#include "runtime/vdb.hpp"
+
+#include "runtime/atomic_file.hpp"
+#include "runtime/output_error.hpp"
+#include "runtime/plugin_loader.hpp"
+
+#include <mutex>
+
+#ifndef FORTU_VDB_MODULE_BUILD_PATH
+#define FORTU_VDB_MODULE_BUILD_PATH ""
+#endif
+
+namespace fortu {
+namespace {
+
+const VdbModule* vdb_module(std::string& error) {
+    static std::once_flag once;
+    static const VdbModule* module = nullptr;
+    static std::string load_error;
+    std::call_once(once, [] {
+        auto* m = static_cast<const VdbModule*>(load_plugin_entry(
+            "libfortu_vdb.so", "FORTU_VDB_MODULE", FORTU_VDB_MODULE_BUILD_PATH, "fortu_vdb_module",
+            "(fortu builds it next to its binary when OpenVDB is installed: apt-get install libopenvdb-dev, "
+            "then rebuild)", load_error));
+        if (m && m->version != kVdbModuleVersion) load_error = "libfortu_vdb.so is from another build of fortu";
+        else module = m;
+    });
+    error = load_error;
+    return module;
+}
+
+}  // namespace
+
+void write_vdb(const Field& field, const OutputTarget& target, const OutputOptions& options) {
+    std::string error;
+    const VdbModule* module = vdb_module(error);
+    if (!module) throw OutputError(target.path, error);
+    write_atomically(target.path, [&](const std::string& temp) {
+        if (std::string e = module->write(temp, field, options.vdb_band); !e.empty()) throw OutputError(target.path, e);
+    });
+}
+
+}  // namespace fortu

@@ -1,0 +1,25 @@
+// runtime/vti.hpp — a field as VTK XML ImageData (.vti), which ParaView and VisIt open:
+// origin, spacing, the value as point data "value" (Float64) and, for --mimages m.vti, the
+// FV model's components "n1".."n5" (fv_model.hpp), in appended raw binary.
+#pragma once
+
+#include "runtime/field.hpp"
+#include "runtime/output_formats.hpp"
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace fortu {
+
+/// Writes the .vti (options.mimages: with the n components). Throws OutputError.
+void write_vti(const Field& field, const OutputTarget& target, const OutputOptions& options);
+
+/// The "value" array of a .vti that write_vti() wrote for `grid`, in fortu's image order, or
+/// nullopt when the file is not one (the golden comparator reads it back).
+std::optional<std::vector<double>> read_vti_values(const std::string& path, const Grid& grid);
+
+/// Compares a reference .vti with the field, value by value.
+OutputComparison compare_vti(const ComparedOutput& compared);
+
+}  // namespace fortu

@@ -334,7 +334,7 @@ private:
         if (path.is_relative() && file.range.file)
             path = std::filesystem::path(file.range.file->path()).parent_path() / path;
         std::string error;
-        std::optional<ImageTable> table = loader_.load_image(path.string(), error);
+        std::optional<ImageTable> table = loader_.load_image(path.string(), error, kMaxImageNodes);
         if (!table) {
             sink_.error(file.range, fmt::format("cannot read image '{}': {}", file.name, error));
             syntax_errors_ = true;  // stop: every use of the table would fail after this

@@ -177,7 +177,7 @@ std::string check_output_content(const OutputFormat& format, const std::string& 
     }
     if (format.kind != OutputKind::Picture) return "no comparator and no other way to check the content";
     std::string error;
-    const std::optional<ImageTable> table = read_image_table(path, error);
+    const std::optional<ImageTable> table = read_image_table(path, error, std::size_t{1} << 20);
     if (!table) return error;
     if (table->width != field.grid.cols() || table->height != field.grid.rows()) return "wrong picture size";
     const std::vector<Rgb8> colours = render_slice(field, 0, colour_scale(field.values), OutputOptions{});

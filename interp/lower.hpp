@@ -9,6 +9,7 @@
 
 #include "grammar/diagnostic.hpp"
 #include "grammar/source.hpp"
+#include "interp/limits.hpp"
 #include "interp/model.hpp"
 #include "interp/source_loader.hpp"
 
@@ -27,6 +28,8 @@ struct CompileOptions {
     std::vector<std::string> include_dirs;
     /// Reads INCLUDE'd scripts and IMAGE pictures; nullptr = from disk (disk_source_loader()).
     const SourceLoader* loader = nullptr;
+    /// The compile-time budgets (limits.def); `--limit name=value` sets them.
+    Limits limits;
 };
 
 /// Parses, checks and lowers a script. Errors, warnings and notes go to `sink`; returns

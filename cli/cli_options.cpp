@@ -93,6 +93,11 @@ void add_model_options(OptionTable& t, CliOptions& o) {
                  if (!o.rsystem)
                      throw UsageError(fmt::format("--rsystem: '{}' is not r0, minmax or alpha=A with A in (-1, 1]", r));
              });
+    t.option("--limit", "NAME=VALUE", "raise (or lower) a compile-time budget; repeatable:\n" + limits_usage(0),
+             [&o](const std::string& v) {
+                 if (const std::string problem = o.limits.parse(v); !problem.empty())
+                     throw UsageError("--limit: " + problem);
+             });
 }
 
 void add_grid_options(OptionTable& t, CliOptions& o) {

@@ -46,6 +46,7 @@ std::optional<Model> load_model(const CliOptions& o, bool show_notes, double& se
     CompileOptions options;
     options.rsystem = o.rsystem;
     options.include_dirs = stdlib_dirs();
+    options.limits = o.limits;
     std::optional<Model> model = is_vm_path(o.positional[0]) ? import_vm(source, sink) : compile(source, options, sink);
     for (const Diagnostic& d : sink.diagnostics())
         if (d.severity != Severity::Note || show_notes) std::cerr << render(d);

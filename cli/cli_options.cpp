@@ -140,7 +140,7 @@ void add_engine_options(OptionTable& t, CliOptions& o, EngineChoice& choice, boo
                  o.budget = parse_double(v, "--budget");
                  if (o.budget <= 0) throw UsageError("--budget must be positive");
              });
-    t.flag("--force", "run the classic engine even above the budget", [&o] { o.force = true; });
+    t.flag("--force", "run the classic engine even above the budget, and a run\nabove its memory estimate", [&o] { o.force = true; });
 }
 
 void add_picture_options(OptionTable& t, CliOptions& o) {

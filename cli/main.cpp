@@ -3,6 +3,7 @@
 // compiles the model through interp/, then evaluates and writes through the engines and
 // runtime/ writers. Exit status: 0 success, 1 model error, 2 usage error.
 #include "cli/cli_options.hpp"
+#include "cli/run_checks.hpp"
 #include "cli/commands.hpp"
 #include "cli/data_paths.hpp"
 #include "cli/point_report.hpp"
@@ -185,6 +186,8 @@ int command_run(const CliOptions& o) {
     std::optional<Model> model = load_model(o, false, compile_seconds);
     if (!model) return kExitModelError;
     const Grid grid = make_grid(*model, o);
+    check_outputs(o, grid);
+    check_memory(o, grid);
     if (!classic_within_budget(*model, o, double(grid.points()))) return kExitUsage;
 
     const std::unique_ptr<Engine> engine = o.engine->tuned(o.engine_settings);

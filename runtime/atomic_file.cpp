@@ -24,9 +24,14 @@ constexpr std::size_t kBufferSize = 1 << 16;
 
 std::string system_reason(int error) { return std::strerror(error); }
 
+struct Temporary {
+    std::string path;
+    int slot;   ///< in temp_files' table, registered before the file exists: no window for a signal
+};
+
 // Creates a new empty file `DIR/.NAME.tmp<PID>-XXXXXX.EXT` (O_EXCL, so never someone else's
 // file) and returns its name. The mode is 0666 less the umask, as for any new file.
-std::string create_temporary(const std::string& path) {
+Temporary create_temporary(const std::string& path) {
     const fs::path destination(path);
     const std::string name = destination.filename().string();
     if (name.empty() || name == "." || name == "..") throw OutputError(path, "not a file name");
@@ -41,13 +46,15 @@ std::string create_temporary(const std::string& path) {
         std::string unique;
         for (int i = 0; i < 6; ++i) unique += kAlphabet[pick(random)];
         const std::string temp = (dir / temporary_file_name(name, unique)).string();
+        const int slot = remember_temporary(temp);
         const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
         if (fd >= 0) {
             ::close(fd);
-            return temp;
+            return {temp, slot};
         }
-        if (errno == EEXIST) continue;
         const int error = errno;
+        forget_temporary(slot);
+        if (error == EEXIST) continue;
         const std::string shown = dir.empty() ? std::string(".") : dir.string();
         if (error == ENOENT) throw OutputError(path, "directory '" + shown + "' does not exist");
         if (error == ENOTDIR) throw OutputError(path, "'" + shown + "' is not a directory");
@@ -71,7 +78,7 @@ void sync_file(const std::string& temp, const std::string& path) {
 // (temp_files.hpp) while it is registered.
 class TemporaryGuard {
 public:
-    explicit TemporaryGuard(std::string temp) : temp_(std::move(temp)), slot_(remember_temporary(temp_)) {}
+    explicit TemporaryGuard(Temporary temp) : temp_(std::move(temp.path)), slot_(temp.slot) {}
     ~TemporaryGuard() {
         if (!kept_) ::unlink(temp_.c_str());
         forget_temporary(slot_);
@@ -120,8 +127,9 @@ void OutputFile::flush() {
 
 void write_atomically(const std::string& path,
                       const std::function<void(const std::string& temp_path)>& write) {
-    const std::string temp = create_temporary(path);
-    TemporaryGuard guard(temp);
+    Temporary created = create_temporary(path);
+    const std::string temp = created.path;
+    TemporaryGuard guard(std::move(created));
     try {
         write(temp);
         sync_file(temp, path);
@@ -135,8 +143,9 @@ void write_atomically(const std::string& path,
 }
 
 void write_file_atomically(const std::string& path, const std::function<void(OutputFile&)>& write) {
-    const std::string temp = create_temporary(path);
-    TemporaryGuard guard(temp);
+    Temporary created = create_temporary(path);
+    const std::string temp = created.path;
+    TemporaryGuard guard(std::move(created));
     try {
         const int fd = ::open(temp.c_str(), O_WRONLY | O_TRUNC | O_CLOEXEC);
         if (fd < 0) throw OutputError(path, system_reason(errno));

@@ -101,16 +101,16 @@ double parse_coordinate(const std::string& text) {
 
 /// Refuses a classic run whose expanded-tree cost exceeds the budget (unless --force).
 bool classic_within_budget(const Model& model, const CliOptions& o, double points) {
-    if (!o.engine->capabilities().expanded_tree_cost || o.force) return true;
+    if (!o.engine->capabilities().expanded_tree_cost) return true;
     const double per_point = classic_operations_per_point(model.graph, model.root);
     const int depth = dag_depth(model.graph, model.root);
-    if (depth > kClassicMaxDepth) {
+    if (depth > kClassicMaxDepth) {   // even with --force: the recursion would overflow the stack
         std::cerr << fmt::format("fortu: error: the model is nested {} levels deep; the classic engine's "
                                  "recursion stops at {}\nnote: use --engine voxel\n", depth, kClassicMaxDepth);
         return false;
     }
     const double total = per_point * points;
-    if (total <= o.budget) return true;
+    if (total <= o.budget || o.force) return true;
     std::cerr << fmt::format(
         "fortu: error: the classic engine would need {} operations per point x {} points = {} operations "
         "(budget {})\nnote: use --engine voxel ({} operations per point), a smaller --size, a larger "

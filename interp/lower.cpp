@@ -3,6 +3,7 @@
 
 #include "grammar/ast.hpp"
 #include "grammar/parse.hpp"
+#include "interp/large_stack.hpp"
 #include "interp/source_loader.hpp"
 #include "runtime/image_table.hpp"
 #include "runtime/resources.hpp"
@@ -998,10 +999,10 @@ std::optional<Model> compile(std::shared_ptr<const SourceFile> source, const Com
                              DiagnosticSink& sink) {
     Model model;
     const int errors_before = sink.error_count();
-    {
+    run_on_large_stack([&] {
         Lowerer lowerer(options, sink, model);
         lowerer.run(source);
-    }
+    });
     if (sink.error_count() != errors_before || model.root == ir::kNoNode) return std::nullopt;
     return model;
 }

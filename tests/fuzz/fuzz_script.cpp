@@ -34,6 +34,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     auto source = std::make_shared<SourceFile>("fuzz.fortu", std::string(reinterpret_cast<const char*>(data), size));
     DiagnosticSink sink;
     CompileOptions options;   // no INCLUDE folders: the fuzzer must not read the disk at will
+    // The default budgets take ~1 s in a release build, over 10 s under the sanitizers (the
+    // first timeout found, 10^9 nested FOR iterations, ran out of 'work' only then).
+    options.limits.set(LimitId::work, 100'000);
+    options.limits.set(LimitId::nodes, 100'000);
     std::optional<Model> model = compile(source, options, sink);
     (void)sink.render_all();
     if (!model) return 0;

@@ -87,6 +87,11 @@ void add_model_options(OptionTable& t, CliOptions& o) {
                  if (!o.rsystem)
                      throw UsageError(fmt::format("--rsystem: '{}' is not r0, minmax or alpha=A with A in (-1, 1]", r));
              });
+    t.option("--limit", "NAME=VALUE", "raise (or lower) a compile-time budget; repeatable:\n" + limits_usage(0),
+             [&o](const std::string& v) {
+                 if (const std::string problem = o.limits.parse(v); !problem.empty())
+                     throw UsageError("--limit: " + problem);
+             });
 }
 
 void add_grid_options(OptionTable& t, CliOptions& o) {
@@ -135,7 +140,7 @@ void add_engine_options(OptionTable& t, CliOptions& o, EngineChoice& choice, boo
                  o.budget = parse_double(v, "--budget");
                  if (o.budget <= 0) throw UsageError("--budget must be positive");
              });
-    t.flag("--force", "run the classic engine even above the budget", [&o] { o.force = true; });
+    t.flag("--force", "run the classic engine even above the budget, and a run\nabove its memory estimate", [&o] { o.force = true; });
 }
 
 void add_picture_options(OptionTable& t, CliOptions& o) {

@@ -7,6 +7,7 @@
 #include "cli/option_table.hpp"
 #include "cli/slice_choice.hpp"
 #include "interp/engine.hpp"
+#include "interp/limits.hpp"
 #include "interp/model.hpp"
 #include "interp/shaded_view.hpp"
 #include "interp/stage_print.hpp"
@@ -30,6 +31,7 @@ struct CliOptions {
     const Engine* engine = &default_engine();  ///< --engine (--sign-only: the sign engine)
     EngineSettings engine_settings;            ///< --precision, --no-hoist
     std::optional<RSystem> rsystem;
+    Limits limits;                             ///< --limit NAME=VALUE (interp/limits.def)
     std::string output;                        ///< -o
     std::string mimages;                       ///< --mimages
     std::string contour;                       ///< --contour

@@ -10,6 +10,7 @@
 #include "cli/mesh_output.hpp"
 #include "cli/model_setup.hpp"
 #include "cli/point_report.hpp"
+#include "cli/run_checks.hpp"
 #include "cli/run_grid.hpp"
 
 #include "grammar/diagnostic.hpp"
@@ -30,6 +31,7 @@
 #include <filesystem>
 #include <fmt/format.h>
 #include <iostream>
+#include <limits>
 #include <unistd.h>
 
 namespace fortu {
@@ -51,6 +53,7 @@ std::optional<Model> load_model(const CliOptions& o, bool show_notes, double& se
     CompileOptions options;
     options.rsystem = o.rsystem;
     options.include_dirs = stdlib_dirs();
+    options.limits = o.limits;
     std::optional<Model> model = compile_model(source, options, sink);
     for (const Diagnostic& d : sink.diagnostics())
         if (d.severity != Severity::Note || show_notes) std::cerr << render(d);
@@ -89,8 +92,9 @@ double parse_coordinate(const std::string& text) {
 
 /// Refuses a classic run whose expanded-tree cost exceeds the budget (unless --force).
 bool classic_within_budget(const Model& model, const CliOptions& o, double points) {
-    if (o.force) return true;
-    const std::optional<std::string> refusal = classic_refusal(model, *o.engine, points, o.budget);
+    // --force lifts the operation budget, never the depth bound (deeper recursion overflows the stack).
+    const double budget = o.force ? std::numeric_limits<double>::infinity() : o.budget;
+    const std::optional<std::string> refusal = classic_refusal(model, *o.engine, points, budget);
     if (refusal) std::cerr << fmt::format("fortu: error: {}\n", *refusal);
     return !refusal;
 }
@@ -189,14 +193,18 @@ int command_run(const CliOptions& o) {
     if (!model) return kExitModelError;
     if (wants_shaded_view(*model, o)) {
         // The view needs no grid; --mimages and --contour still draw the cube's middle slice.
-        const int status = run_shaded_view(*model, o);
-        if (status != 0 || (o.mimages.empty() && o.contour.empty())) return status;
         CliOptions rest = o;
         rest.output.clear();
+        const bool slices_too = !o.mimages.empty() || !o.contour.empty();
+        if (slices_too) check_outputs(o, make_grid(*model, rest));   // before anything is written
+        const int status = run_shaded_view(*model, o);
+        if (status != 0 || !slices_too) return status;
         return command_run(rest);
     }
     const Grid grid = make_grid(*model, o);
+    check_outputs(o, grid);
     if (is_mesh_output(o.output)) return run_mesh_output(*model, grid, o, compile_seconds);
+    check_memory(o, grid);
     if (!classic_within_budget(*model, o, double(grid.points()))) return kExitUsage;
     CliOptions reference_options = o;
     if (o.compare) reference_options.engine = o.compare;

@@ -27,10 +27,15 @@ SourceFile::SourceFile(std::string path, std::string text)
 
 std::shared_ptr<SourceFile> SourceFile::load(const std::string& path, std::string& error) {
     // fopen() succeeds on a directory on Linux and the read fails later with a vaguer
-    // message, so ask first.
+    // message, so ask first; a device or pipe could give bytes forever (/dev/zero).
     std::error_code ec;
-    if (std::filesystem::is_directory(path, ec)) {
+    const auto status = std::filesystem::status(path, ec);
+    if (!ec && std::filesystem::is_directory(status)) {
         error = "cannot read '" + path + "': is a directory";
+        return nullptr;
+    }
+    if (!ec && !std::filesystem::is_regular_file(status)) {
+        error = "cannot read '" + path + "': not a regular file";
         return nullptr;
     }
     std::FILE* file = std::fopen(path.c_str(), "rb");
@@ -41,19 +46,24 @@ std::shared_ptr<SourceFile> SourceFile::load(const std::string& path, std::strin
     std::string text;
     char buffer[1 << 16];
     size_t n = 0;
+    bool too_large = false;
     while ((n = std::fread(buffer, 1, sizeof buffer, file)) > 0) {
+        if (text.size() + n > kMaxBytes) {
+            too_large = true;
+            break;
+        }
         text.append(buffer, n);
     }
     const bool failed = std::ferror(file) != 0;
     const int saved_errno = errno;
     std::fclose(file);
-    if (failed) {
-        error = "cannot read '" + path + "': " + std::strerror(saved_errno);
+    if (too_large) {
+        error = "cannot read '" + path + "': larger than " + std::to_string(kMaxBytes >> 20) +
+                " MiB, which no script needs";
         return nullptr;
     }
-    // Positions are stored as 32-bit offsets; no script comes near this.
-    if (text.size() >= UINT32_MAX) {
-        error = "cannot read '" + path + "': file too large";
+    if (failed) {
+        error = "cannot read '" + path + "': " + std::strerror(saved_errno);
         return nullptr;
     }
     error.clear();

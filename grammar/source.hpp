@@ -2,6 +2,7 @@
 // Every diagnostic and AST node points into a SourceFile by 1-based line and byte column.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -15,8 +16,11 @@ class SourceFile {
 public:
     SourceFile(std::string path, std::string text);
 
-    /// Reads a file; returns nullptr and sets `error` when it cannot be read.
+    /// Reads a regular file of at most kMaxBytes; returns nullptr and sets `error` when it
+    /// cannot be read (a device such as /dev/zero or a larger file is refused before reading).
     static std::shared_ptr<SourceFile> load(const std::string& path, std::string& error);
+    /// No script comes near this; a larger file is a mistake (a data file, a device).
+    static constexpr std::size_t kMaxBytes = 4u << 20;
 
     const std::string& path() const { return path_; }
     const std::string& text() const { return text_; }

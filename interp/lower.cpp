@@ -4,8 +4,10 @@
 #include "grammar/ast.hpp"
 #include "grammar/parse.hpp"
 #include "interp/header_domain.hpp"
+#include "interp/large_stack.hpp"
 #include "interp/source_loader.hpp"
 #include "runtime/image_table.hpp"
+#include "runtime/resources.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -198,7 +200,7 @@ private:
 
     void lower_block(const std::vector<ast::Statement>& statements, Scope& scope) {
         for (const ast::Statement& statement : statements) {
-            if (too_many_errors()) return;
+            if (too_many_errors() || !spend_work(statement.range)) return;
             if (return_seen_ && scope_depth_ == 0 && !warned_after_return_ &&
                 !std::holds_alternative<ast::ReturnStmt>(statement.node)) {
                 sink_.warning(statement.range, "statement after RETURN is ignored");
@@ -297,8 +299,18 @@ private:
         }
         // An element that names an array splices it in, so arrays can grow in loops:
         // CONSTANT PX = [PX, X0 + R*COS(T)];
+        const auto max_elements = static_cast<std::size_t>(options_.limits[LimitId::array]);
         for (const ast::ExprPtr& element : def.value->operands) {
-            if (const Binding* array = as_array(*element, scope)) {
+            const Binding* array = as_array(*element, scope);
+            if (b.array.size() + (array ? array->array.size() : 1) > max_elements) {
+                over_limit(element->range, LimitId::array,
+                           fmt::format("array '{}' would have more than {} elements", def.name,
+                                       format_count(max_elements)));
+                b.array.clear();
+                scope.define(std::move(b));
+                return;
+            }
+            if (array) {
                 b.array.insert(b.array.end(), array->array.begin(), array->array.end());
                 continue;
             }
@@ -337,15 +349,16 @@ private:
         if (path.is_relative() && file.range.file)
             path = std::filesystem::path(file.range.file->path()).parent_path() / path;
         std::string error;
-        std::optional<ImageTable> table = loader_.load_image(path.string(), error);
+        std::optional<ImageTable> table = loader_.load_image(path.string(), error, static_cast<std::size_t>(options_.limits[LimitId::image_pixels]));
         if (!table) {
             sink_.error(file.range, fmt::format("cannot read image '{}': {}", file.name, error));
             syntax_errors_ = true;  // stop: every use of the table would fail after this
             return std::nullopt;
         }
-        if (table->values.size() > kMaxImageNodes) {
-            sink_.error(file.range, fmt::format("image '{}' is {}x{}: at most {:L} pixels", file.name,
-                                                table->width, table->height, kMaxImageNodes),
+        const long long max_pixels = options_.limits[LimitId::image_pixels];
+        if (table->values.size() > static_cast<std::size_t>(max_pixels)) {
+            sink_.error(file.range, fmt::format("image '{}' is {}x{}: at most {} pixels", file.name,
+                                                table->width, table->height, max_pixels),
                         "a height map costs a few operations per pixel at every point; scale it down");
             syntax_errors_ = true;
             return std::nullopt;
@@ -463,13 +476,25 @@ private:
             return;
         }
         const double count = std::floor((to - from) / step) + 1;
-        if (count > kMaxLoopIterations) {
+        const long long max_iterations = options_.limits[LimitId::loop];
+        if (count > static_cast<double>(max_iterations)) {
             sink_.error(statement.range,
-                        fmt::format("FOR loop would run {} times (at most {:L} allowed)",
-                                    format_number(count), kMaxLoopIterations));
+                        fmt::format("FOR loop would run {} times (at most {} allowed)",
+                                    format_number(count), max_iterations),
+                        limit_hint(LimitId::loop, max_iterations));
             return;
         }
         for (double i = from; step > 0 ? i <= to : i >= to; i += step) {
+            // Near 1E17 a step of 1 is below the spacing of doubles: I would never move.
+            if (i + step == i) {
+                sink_.error(loop.step ? loop.step->range : statement.range,
+                            fmt::format("FOR step {} does not change {} = {}: the step is below the "
+                                        "precision of numbers that large", format_number(step),
+                                        loop.index, format_number(i)),
+                            "use a larger step, or smaller bounds");
+                syntax_errors_ = true;
+                return;
+            }
             Binding index;
             index.kind = Binding::Kind::Constant;
             index.name = loop.index;
@@ -520,6 +545,11 @@ private:
                 syntax_errors_ = true;  // stop here, as for the main script
                 return;
             }
+            if (static_cast<long long>(including_.size()) >= options_.limits[LimitId::include_depth]) {
+                over_limit(statement.range, LimitId::include_depth,
+                           fmt::format("INCLUDE nests more than {} files deep", including_.size()));
+                return;
+            }
             included_scripts_.push_back(std::move(script));
             including_.push_back({key, source->path()});
             lower_block(included_scripts_.back().statements, scope);
@@ -566,7 +596,44 @@ private:
         return true;
     }
 
+    /// Every expression lowered costs one unit of work and one level of nesting while its
+    /// operands (and the bodies of the functions it calls) are lowered: the bounds that keep
+    /// a small script from hanging, exhausting memory or overflowing the stack.
     NodeId lower_expr(const ast::Expr& e, const Scope& scope, Context context) {
+        if (!spend_work(e.range)) return poison();
+        if (nesting_ >= options_.limits[LimitId::nesting]) {
+            over_limit(e.range, LimitId::nesting,
+                       fmt::format("expressions nest more than {} deep here, counting the bodies of the "
+                                   "functions called", format_count(static_cast<std::uint64_t>(nesting_))));
+            return poison();
+        }
+        ++nesting_;
+        const NodeId node = lower_expr_unguarded(e, scope, context);
+        --nesting_;
+        if (graph_.size() > static_cast<std::size_t>(options_.limits[LimitId::nodes]))
+            over_limit(e.range, LimitId::nodes,
+                       fmt::format("the model has more than {} nodes after lowering this",
+                                   format_count(static_cast<std::uint64_t>(options_.limits[LimitId::nodes]))));
+        return node;
+    }
+
+    /// Counts one step of lowering; false (reported once) when the budget is spent.
+    bool spend_work(const SourceRange& where) {
+        if (++work_ <= options_.limits[LimitId::work]) return true;
+        over_limit(where, LimitId::work,
+                   fmt::format("compiling the script takes more than {} steps (FOR loops unroll and "
+                               "functions inline; this is where the budget ran out)",
+                               format_count(static_cast<std::uint64_t>(options_.limits[LimitId::work]))));
+        return false;
+    }
+
+    /// Reports an exceeded budget once and stops lowering.
+    void over_limit(const SourceRange& where, LimitId id, std::string message) {
+        if (!syntax_errors_) sink_.error(where, std::move(message), limit_hint(id, options_.limits[id]));
+        syntax_errors_ = true;
+    }
+
+    NodeId lower_expr_unguarded(const ast::Expr& e, const Scope& scope, Context context) {
         switch (e.kind) {
             case ast::Expr::Kind::Number: return graph_.constant(e.number);
             case ast::Expr::Kind::Name: return lower_name(e, scope, context);
@@ -785,6 +852,9 @@ private:
             return poison();
         }
         Scope local(b.written_at);   // the body sees the names where it is written, not here
+        // The call's identity: the function as written here, the argument nodes (arrays by
+        // their elements), the R-system and the context, all that the result depends on.
+        std::string call_key = call_identity(b, context);
         for (std::size_t i = 0; i < def.params.size(); ++i) {
             Binding p;
             p.kind = Binding::Kind::Variable;
@@ -793,13 +863,18 @@ private:
             if (const Binding* array = as_array(*e.operands[i], scope)) {  // arrays pass whole
                 p.kind = Binding::Kind::Array;
                 p.array = array->array;
+                append_bytes(call_key, 'A', p.array.size());
+                call_key.append(reinterpret_cast<const char*>(p.array.data()), p.array.size() * sizeof(double));
                 local.define(std::move(p));
                 continue;
             }
             p.node = lower_expr(*e.operands[i], scope, context);
             if (graph_.is_constant(p.node)) p.kind = Binding::Kind::Constant;
+            append_bytes(call_key, 'N', p.node);
             local.define(std::move(p));
         }
+        if (const auto seen = inlined_.find(call_key); seen != inlined_.end()) return seen->second;
+        const int errors_before = sink_.error_count();
         active_calls_.push_back(&def);
         ++scope_depth_;
         NodeId result = poison();
@@ -812,7 +887,33 @@ private:
         }
         --scope_depth_;
         active_calls_.pop_back();
+        // A body that changes the R-system has an effect beyond its result: lower it each time.
+        if (sink_.error_count() == errors_before && !changes_rsystem(def.body)) inlined_.emplace(std::move(call_key), result);
         return result;
+    }
+
+    std::string call_identity(const Binding& function, Context context) const {
+        std::string key;
+        append_bytes(key, 'F', function.function);
+        append_bytes(key, 'S', function.written_at.scope);
+        append_bytes(key, 'V', function.written_at.version);
+        append_bytes(key, 'R', alpha());
+        append_bytes(key, 'C', context);
+        return key;
+    }
+
+    template <class T>
+    static void append_bytes(std::string& key, char tag, const T& value) {
+        key += tag;
+        key.append(reinterpret_cast<const char*>(&value), sizeof value);
+    }
+
+    static bool changes_rsystem(const std::vector<ast::Statement>& body) {
+        for (const ast::Statement& s : body) {
+            if (std::holds_alternative<ast::RSystemStmt>(s.node)) return true;
+            if (const auto* loop = std::get_if<ast::ForStmt>(&s.node); loop && changes_rsystem(loop->body)) return true;
+        }
+        return false;
     }
 
     // -- the end --
@@ -853,8 +954,6 @@ private:
     }
 
     static constexpr int kMaxErrors = 50;
-    static constexpr std::size_t kMaxImageNodes = 128 * 128;   ///< height-map pixels (BILINEAR sums them all)
-    static constexpr long kMaxLoopIterations = 1'000'000;
 
     const CompileOptions& options_;
     const SourceLoader& loader_;
@@ -883,6 +982,12 @@ private:
     std::vector<IncludedFile> including_;
     std::vector<ast::Script> included_scripts_;
     std::vector<const ast::FunctionDef*> active_calls_;
+    long long work_ = 0;      ///< lowering steps so far (LimitId::work)
+    long long nesting_ = 0;   ///< lower_expr calls open (LimitId::nesting)
+    /// Inlined calls by function and argument nodes: a call seen before is its result again
+    /// (hash-consing the call, not only its result), so F(A) = G(A) + G(A+1) nested 40 deep
+    /// lowers each level once, not 2^40 times.
+    std::unordered_map<std::string, NodeId> inlined_;
 };
 
 }  // namespace
@@ -912,10 +1017,10 @@ std::optional<Model> compile(std::shared_ptr<const SourceFile> source, const Com
                              DiagnosticSink& sink) {
     Model model;
     const int errors_before = sink.error_count();
-    {
+    run_on_large_stack([&] {
         Lowerer lowerer(options, sink, model);
         lowerer.run(source);
-    }
+    });
     apply_domain_comment(*source, model, sink);
     if (sink.error_count() != errors_before || model.root == ir::kNoNode) return std::nullopt;
     return model;

@@ -9,6 +9,7 @@
 
 #include "grammar/diagnostic.hpp"
 #include "grammar/source.hpp"
+#include "interp/limits.hpp"
 #include "interp/model.hpp"
 #include "interp/source_loader.hpp"
 
@@ -33,6 +34,8 @@ struct CompileOptions {
     /// everything computed from it folds as if the script had been written with it (the
     /// Python module's per-call constants). A name no such definition has is an error.
     std::vector<std::pair<std::string, double>> constants;
+    /// The compile-time budgets (limits.def); `--limit name=value` sets them.
+    Limits limits;
 };
 
 /// Parses, checks and lowers a script. Errors, warnings and notes go to `sink`; returns

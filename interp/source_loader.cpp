@@ -20,8 +20,9 @@ std::shared_ptr<SourceFile> DiskSourceLoader::load_script(const std::string& pat
     return SourceFile::load(path, error);
 }
 
-std::optional<ImageTable> DiskSourceLoader::load_image(const std::string& path, std::string& error) const {
-    return read_image_table(path, error);
+std::optional<ImageTable> DiskSourceLoader::load_image(const std::string& path, std::string& error,
+                                                      std::size_t max_pixels) const {
+    return read_image_table(path, error, max_pixels);
 }
 
 const SourceLoader& disk_source_loader() {

@@ -23,8 +23,10 @@ public:
     virtual std::string identity(const std::string& path) const = 0;
     /// The script at `path`; nullptr and `error` (why, without the path) on failure.
     virtual std::shared_ptr<SourceFile> load_script(const std::string& path, std::string& error) const = 0;
-    /// The picture at `path` as grey levels; nullopt and `error` (why) on failure.
-    virtual std::optional<ImageTable> load_image(const std::string& path, std::string& error) const = 0;
+    /// The picture at `path` as grey levels; nullopt and `error` (why) on failure, also when
+    /// it has more than `max_pixels` pixels (found before decoding).
+    virtual std::optional<ImageTable> load_image(const std::string& path, std::string& error,
+                                                 std::size_t max_pixels) const = 0;
 };
 
 /// Files on disk: SourceFile::load, read_image_table (OpenImageIO), identity = the
@@ -34,7 +36,8 @@ public:
     bool exists(const std::string& path) const override;
     std::string identity(const std::string& path) const override;
     std::shared_ptr<SourceFile> load_script(const std::string& path, std::string& error) const override;
-    std::optional<ImageTable> load_image(const std::string& path, std::string& error) const override;
+    std::optional<ImageTable> load_image(const std::string& path, std::string& error,
+                                         std::size_t max_pixels) const override;
 };
 
 /// The loader compile() uses when CompileOptions::loader is not set.

@@ -1,9 +1,7 @@
 // runtime/exr.cpp — float EXR through OpenImageIO, one part per 3D slice.
 #include "runtime/exr.hpp"
 
-#include "runtime/atomic_file.hpp"
 #include "runtime/fv_model.hpp"
-#include "runtime/oiio_util.hpp"
 #include "runtime/output_error.hpp"
 
 #include "runtime/image_io.hpp"
@@ -54,10 +52,7 @@ void write_parts(const Field& field, const std::string& path, int first, int cou
     std::vector<ImageLayer> layers;
     for (int s = first; s < first + count; ++s) pixels.push_back(slice_pixels(field, s));
     for (int i = 0; i < count; ++i) layers.push_back(slice_layer(field.grid, first + i, pixels[i]));
-    write_atomically(path, [&](const std::string& temp) {
-        const std::string error = write_image_layers(temp, layers);
-        if (!error.empty()) throw OutputError(path, oiio_reason(error, temp, path));
-    });
+    write_image_file(path, layers);
 }
 
 }  // namespace

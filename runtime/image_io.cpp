@@ -1,6 +1,10 @@
 // runtime/image_io.cpp — finds and loads libfortu_image.so on first use.
 #include "runtime/image_io.hpp"
 
+#include "runtime/atomic_file.hpp"
+#include "runtime/oiio_util.hpp"
+#include "runtime/output_error.hpp"
+
 #include <dlfcn.h>
 #include <filesystem>
 #include <mutex>
@@ -73,20 +77,30 @@ const ImageModule* image_module(std::string& error) {
     return m.module;
 }
 
-std::string write_image_layers(const std::string& file, const std::vector<ImageLayer>& layers) {
+void write_image_file(const std::string& path, const std::vector<ImageLayer>& layers) {
     const Loaded& m = module();
-    if (!m.module) return m.error;
-    return m.module->write(file, layers);
+    if (!m.module) throw OutputError(path, m.error);
+    if (layers.size() > 1) {
+        write_atomically(path, [&](const std::string& temp) {
+            const std::string error = m.module->write(temp, layers);
+            if (!error.empty()) throw OutputError(path, oiio_reason(error, temp, path));
+        });
+        return;
+    }
+    std::vector<unsigned char> bytes;
+    const std::string error = m.module->encode(path, layers, bytes);
+    if (!error.empty()) throw OutputError(path, oiio_reason(error, path, path));
+    write_file_atomically(path, [&](OutputFile& file) { file.write(bytes.data(), bytes.size()); });
 }
 
-std::optional<ImageData> read_image(const std::string& file, std::string& error) {
+std::optional<ImageData> read_image(const std::string& file, std::string& error, std::size_t max_pixels) {
     const Loaded& m = module();
     if (!m.module) {
         error = m.error;
         return std::nullopt;
     }
     ImageData data;
-    if (!m.module->read(file, data, error)) return std::nullopt;
+    if (!m.module->read(file, data, error, max_pixels)) return std::nullopt;
     return data;
 }
 

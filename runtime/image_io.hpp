@@ -8,6 +8,7 @@
 // runs that read or write an image.
 #pragma once
 
+#include <cstddef>
 #include <optional>
 #include <string>
 #include <utility>
@@ -36,25 +37,35 @@ struct ImageData {
     std::vector<float> pixels;
 };
 
-/// Writes `layers` to `file` (the format follows its extension; several layers make a
-/// multi-part file). Returns "" on success, else OpenImageIO's reason.
-std::string write_image_layers(const std::string& file, const std::vector<ImageLayer>& layers);
+/// Writes `layers` to `path` (the format follows its extension; several layers make a
+/// multi-part file). OpenImageIO encodes one layer into memory and the bytes go through
+/// write_file_atomically(), so every write is checked (libpng does not report a full disk);
+/// a multi-part EXR is written by OpenEXR, which checks its writes, through
+/// write_atomically(). Throws OutputError.
+void write_image_file(const std::string& path, const std::vector<ImageLayer>& layers);
 
-/// Reads the first image of `file`; nullopt with `error` set when it cannot.
-std::optional<ImageData> read_image(const std::string& file, std::string& error);
+/// Reads the first image of `file`; nullopt with `error` set when it cannot. An image of more
+/// than `max_pixels` pixels is refused from its header, before any pixel is decoded.
+std::optional<ImageData> read_image(const std::string& file, std::string& error,
+                                    std::size_t max_pixels = 1u << 26);
 
 /// The interface the module exports (`fortu_image_module()`); versioned so a stale module
 /// from an older build is refused instead of misread.
 struct ImageModule {
     int version;
+    /// Writes `layers` to `file`; "" or OpenImageIO's reason. For multi-part files, which
+    /// OpenImageIO 2.4 cannot write into memory.
     std::string (*write)(const std::string& file, const std::vector<ImageLayer>& layers);
-    bool (*read)(const std::string& file, ImageData& out, std::string& error);
+    /// Encodes one layer in the format `file` names into `bytes`; "" or the reason.
+    std::string (*encode)(const std::string& file, const std::vector<ImageLayer>& layers,
+                          std::vector<unsigned char>& bytes);
+    bool (*read)(const std::string& file, ImageData& out, std::string& error, std::size_t max_pixels);
     /// image_compare.hpp's comparison and diff image, on OpenImageIO's ImageBufAlgo.
     ImageComparison (*compare)(const std::string& expected, const std::string& actual, double tolerance);
     std::string (*write_difference)(const std::string& expected, const std::string& actual, int subimage,
                                     const std::string& file);
 };
-inline constexpr int kImageModuleVersion = 2;
+inline constexpr int kImageModuleVersion = 3;
 
 /// The loaded module, or nullptr with `error` set (why it cannot be found or loaded).
 const ImageModule* image_module(std::string& error);

@@ -4,7 +4,10 @@
 #include "runtime/image_compare.hpp"
 #include "runtime/image_io.hpp"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
+
+#include <fmt/format.h>
 
 namespace fortu {
 namespace {
@@ -21,7 +24,10 @@ void single_threaded_once() {
     (void)done;
 }
 
-std::string write_layers(const std::string& file, const std::vector<ImageLayer>& layers) {
+// `proxy` (into memory) or the file itself: the caller writes the bytes with checked writes,
+// since OpenImageIO's PNG and BMP writers do not report a failed write.
+std::string write_layers_to(const std::string& file, const std::vector<ImageLayer>& layers,
+                            OIIO::Filesystem::IOProxy* proxy) {
     if (layers.empty()) return "no image to write";
     auto out = OIIO::ImageOutput::create(file);
     if (!out) {
@@ -35,8 +41,10 @@ std::string write_layers(const std::string& file, const std::vector<ImageLayer>&
         spec.channelnames = layer.channels;
         for (const auto& [name, value] : layer.text_attributes) spec.attribute(name, value);
         for (const auto& [name, value] : layer.float_attributes) spec.attribute(name, value);
+        if (proxy) spec.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
         specs.push_back(std::move(spec));
     }
+    if (proxy && !out->supports("ioproxy")) return "OpenImageIO cannot write this format into memory";
     auto failed = [&] {
         std::string reason = out->geterror();
         return reason.empty() ? std::string("OpenImageIO reported an unknown error") : reason;
@@ -53,7 +61,18 @@ std::string write_layers(const std::string& file, const std::vector<ImageLayer>&
     return {};
 }
 
-bool read_first(const std::string& file, ImageData& data, std::string& error) {
+std::string write_layers(const std::string& file, const std::vector<ImageLayer>& layers) {
+    return write_layers_to(file, layers, nullptr);
+}
+
+std::string encode_layer(const std::string& file, const std::vector<ImageLayer>& layers,
+                         std::vector<unsigned char>& bytes) {
+    if (layers.size() != 1) return "one image at a time into memory";
+    OIIO::Filesystem::IOVecOutput memory(bytes);
+    return write_layers_to(file, layers, &memory);
+}
+
+bool read_first(const std::string& file, ImageData& data, std::string& error, std::size_t max_pixels) {
     auto in = OIIO::ImageInput::open(file);
     if (!in) {
         error = OIIO::geterror();
@@ -61,6 +80,17 @@ bool read_first(const std::string& file, ImageData& data, std::string& error) {
         return false;
     }
     const OIIO::ImageSpec& spec = in->spec();
+    // From the header, before decoding: a small file may claim a huge picture.
+    if (spec.width <= 0 || spec.height <= 0 || spec.depth > 1 || spec.nchannels <= 0 || spec.nchannels > 64) {
+        error = fmt::format("not a 2D image ({}x{}x{}, {} channels)", spec.width, spec.height, spec.depth,
+                            spec.nchannels);
+        return false;
+    }
+    const std::size_t pixels = static_cast<std::size_t>(spec.width) * static_cast<std::size_t>(spec.height);
+    if (pixels > max_pixels) {
+        error = fmt::format("the picture is {}x{}, more than {} pixels", spec.width, spec.height, max_pixels);
+        return false;
+    }
     data.cols = spec.width;
     data.rows = spec.height;
     data.channels = spec.channelnames;
@@ -74,7 +104,7 @@ bool read_first(const std::string& file, ImageData& data, std::string& error) {
     return true;
 }
 
-constexpr ImageModule kModule{kImageModuleVersion, &write_layers, &read_first, &oiio_compare_images,
+constexpr ImageModule kModule{kImageModuleVersion, &write_layers, &encode_layer, &read_first, &oiio_compare_images,
                               &oiio_write_difference};
 
 }  // namespace

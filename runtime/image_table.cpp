@@ -10,13 +10,14 @@
 
 namespace fortu {
 
-std::optional<ImageTable> read_image_table(const std::string& path, std::string& error) {
+std::optional<ImageTable> read_image_table(const std::string& path, std::string& error,
+                                           std::size_t max_pixels) {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(path, ec)) {
         error = "no such file";
         return std::nullopt;
     }
-    std::optional<ImageData> image = read_image(path, error);
+    std::optional<ImageData> image = read_image(path, error, max_pixels);
     if (!image) return std::nullopt;
     const int channels = static_cast<int>(image->channels.size());
     if (image->cols <= 0 || image->rows <= 0 || channels <= 0) {

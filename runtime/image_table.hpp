@@ -2,6 +2,7 @@
 // for height maps given as pictures (fv-method.md §5.2); OpenImageIO does the decoding.
 #pragma once
 
+#include <cstddef>
 #include <optional>
 #include <string>
 #include <vector>
@@ -15,7 +16,9 @@ struct ImageTable {
     std::vector<double> values;   ///< the mean of the colour channels (alpha ignored), 0..1
 };
 
-/// Reads any format OpenImageIO knows. On failure returns nullopt and says why in `error`.
-std::optional<ImageTable> read_image_table(const std::string& path, std::string& error);
+/// Reads any format OpenImageIO knows. On failure returns nullopt and says why in `error`; a
+/// picture of more than `max_pixels` pixels is refused from its header, before decoding.
+std::optional<ImageTable> read_image_table(const std::string& path, std::string& error,
+                                           std::size_t max_pixels);
 
 }  // namespace fortu

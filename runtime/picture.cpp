@@ -1,9 +1,7 @@
 // runtime/picture.cpp — colour map, contour marking and the 8-bit OpenImageIO writer.
 #include "runtime/picture.hpp"
 
-#include "runtime/atomic_file.hpp"
 #include "runtime/output_path.hpp"
-#include "runtime/oiio_util.hpp"
 #include "runtime/output_error.hpp"
 
 #include "runtime/image_io.hpp"
@@ -137,10 +135,7 @@ void write_image_8bit(const std::string& path, int cols, int rows, int channels,
     const std::string ext = path_extension(path);
     if (ext == "jpg" || ext == "jpeg")
         layer.text_attributes.emplace_back("Compression", fmt::format("jpeg:{}", std::clamp(options.jpeg_quality, 1, 100)));
-    write_atomically(path, [&](const std::string& temp) {
-        const std::string error = write_image_layers(temp, {layer});
-        if (!error.empty()) throw OutputError(path, oiio_reason(error, temp, path));
-    });
+    write_image_file(path, {layer});
 }
 
 void write_picture(const Field& field, const OutputTarget& target, const OutputOptions& options) {

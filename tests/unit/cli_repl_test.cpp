@@ -261,3 +261,21 @@ TEST_CASE("fortu repl usage errors exit 2") {
     CHECK(run_fortu("repl --frob").out == "fortu: error: unknown option '--frob'\nsee fortu repl --help\n");
     CHECK(run_fortu("repl --help", ".", true).status == 0);
 }
+
+TEST_CASE(":load of /dev/zero or of an INCLUDE chain thousands deep is an error, and the session goes on") {
+    SessionDir d;
+    for (int i = 0; i < 3000; ++i) d.write("l" + std::to_string(i) + ".fortu", "INCLUDE 'l" + std::to_string(i + 1) + ".fortu';\n");
+    d.write("l3000.fortu", "CONSTANT C = 1;\n");
+    d.write("deep.fortu", "ARGUMENT X, Y;\nINCLUDE 'l0.fortu';\nRETURN X + Y + C;\n");
+    const auto r = d.repl(":load /dev/zero\n:load deep.fortu\nARGUMENT X, Y\nRETURN X + Y\n:eval 1 2\n");
+    CHECK(r.status == 1);
+    CHECK(r.out == "fortu: error: cannot read '/dev/zero': not a regular file\n"
+                   "l62.fortu:1:1: error: INCLUDE nests more than 64 files deep\n"
+                   "INCLUDE 'l63.fortu';\n"
+                   "^~~~~~~~~~~~~~~~~~~\n"
+                   "note: the limit 'include-depth' is 64; raise it with --limit include-depth=N\n"
+                   "value: 3\n"
+                   "gradient: 1 1\n"
+                   "normal: n1=-0.577350269189615 n2=-0.5773502691896312 n3=0.5773502691896312 n4=-3.1260162170523e-12\n"
+                   "inside: yes\n");
+}

@@ -4,6 +4,7 @@
 #include "interp_test_support.hpp"
 #include "test_support.hpp"
 
+#include "interp/limits.hpp"
 #include "runtime/image_table.hpp"
 #include "runtime/output_formats.hpp"
 #include "runtime/picture.hpp"
@@ -179,7 +180,7 @@ std::string check_output_content(const OutputFormat& format, const std::string& 
     if (format.kind == OutputKind::Volume) return std::filesystem::file_size(path) > 0 ? "" : "empty file";
     if (format.kind != OutputKind::Picture) return "no comparator and no other way to check the content";
     std::string error;
-    const std::optional<ImageTable> table = read_image_table(path, error);
+    const std::optional<ImageTable> table = read_image_table(path, error, std::size_t{1} << 20);
     if (!table) return error;
     if (table->width != field.grid.cols() || table->height != field.grid.rows()) return "wrong picture size";
     const std::vector<Rgb8> colours = render_slice(field, 0, colour_scale(field.values), OutputOptions{});
@@ -257,4 +258,20 @@ TEST_CASE("3D models write a chosen slice or a stack of slices") {
         CHECK(std::filesystem::exists(t.path / name));
     }
     CHECK(run_fortu("run " + m + " --size 9 --slice 9 -o " + quote((t.path / "bad.png").string())).status == 2);
+}
+
+TEST_CASE("--limit: changes a compile-time budget; the README's table is the generated one") {
+    TempDir t;
+    const std::string m = quote(t.write("loop.fortu", "ARGUMENT X, Y;\nCONSTANT S = 0;\nFOR I = 1, 100\n"
+                                                      "CONSTANT S = S + 1;\nEND FOR\nRETURN X + Y - S;\n"));
+    CHECK(run_fortu("check " + m).status == 0);
+    const auto low = run_fortu("check " + m + " --limit work=50");
+    CHECK(low.status == 1);
+    CHECK(low.out.find("note: the limit 'work' is 50; raise it with --limit work=N\n") != std::string::npos);
+    CHECK(run_fortu("check " + m + " --limit work=50 --limit work=1000").status == 0);
+    CHECK(run_fortu("check " + m + " --limit speed=1").out ==
+          "fortu: error: --limit: unknown limit 'speed' (names: work, nodes, array, loop, nesting, include-depth, "
+          "image-pixels)\n");
+    const std::string readme = fortu::test::read_file(std::string(FORTU_SOURCE_DIR) + "/README.md");
+    CHECK(readme.find("```\n" + limits_usage(0) + "\n```\n") != std::string::npos);
 }

@@ -34,7 +34,7 @@ public:
         }
         return std::make_shared<SourceFile>(path, it->second);
     }
-    std::optional<ImageTable> load_image(const std::string& path, std::string& error) const override {
+    std::optional<ImageTable> load_image(const std::string& path, std::string& error, std::size_t) const override {
         loaded_.push_back(path);
         const auto it = images_.find(normal(path));
         if (it == images_.end()) {

@@ -220,9 +220,8 @@ int command_run(const CliOptions& o) {
     if (!o.steps.empty()) {
         eval.steps = model->definitions;
         eval.steps.emplace_back("RETURN", model->root);
-        OutputOptions step_output;
-        if (o.slice) step_output.slice = *o.slice;
-        steps.emplace(o.steps, eval.steps.size(), step_output);
+        // With --slice the grid is already that one plane.
+        steps.emplace(o.steps, eval.steps.size(), OutputOptions{});
         eval.on_step = [&steps](const EvalStep& step) { (*steps)(step); };
     }
     Stopwatch clock;

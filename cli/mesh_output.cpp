@@ -1,6 +1,7 @@
 // cli/mesh_output.cpp — run's mesh path: mesh, write, report.
 #include "cli/mesh_output.hpp"
 
+#include "cli/model_setup.hpp"
 #include "cli/option_table.hpp"
 #include "interp/ir_print.hpp"
 #include "interp/mesher.hpp"
@@ -22,11 +23,9 @@ bool is_mesh_output(const std::string& path) {
 }
 
 int run_mesh_output(const Model& model, const Grid& grid, const CliOptions& o, double compile_seconds) {
-    if (grid.dims != 3)
-        throw UsageError(fmt::format("-o {}: a mesh needs a 3D model (X, Y, Z); this one has {} argument(s)", o.output,
-                                     model.arguments.size()));
-    if (grid.cols() < 2 || grid.rows() < 2 || grid.slices() < 2)
-        throw UsageError("--size: a mesh needs at least 2 nodes along each axis");
+    if (const std::optional<MeshRefusal> refusal = mesh_refusal(model, grid))
+        throw UsageError(refusal->size_at_fault ? "--size: " + refusal->message
+                                                : fmt::format("-o {}: {}", o.output, refusal->message));
     EvalOptions eval;
     eval.threads = o.threads;
     Stopwatch clock;

@@ -1,4 +1,5 @@
-// cli/model_setup.cpp — compiling, grid sizing and the classic budget, shared by the front ends.
+// cli/model_setup.cpp — compiling, grid sizing, the classic budget and the mesh checks, shared
+// by the front ends.
 #include "cli/model_setup.hpp"
 
 #include "cli/option_table.hpp"
@@ -60,6 +61,15 @@ std::optional<std::string> classic_refusal(const Model& model, const Engine& eng
         "--budget, or --force",
         format_operations(per_point), format_operations(points), fmt::format("{:.3g}", total),
         fmt::format("{:.3g}", budget), format_operations(double(ir_stats(model).operations)));
+}
+
+std::optional<MeshRefusal> mesh_refusal(const Model& model, const Grid& grid) {
+    if (grid.dims != 3)
+        return MeshRefusal{false, fmt::format("a mesh needs a 3D model (X, Y, Z); this one has {} argument(s)",
+                                              model.arguments.size())};
+    if (grid.cols() < 2 || grid.rows() < 2 || grid.slices() < 2)
+        return MeshRefusal{true, "a mesh needs at least 2 nodes along each axis"};
+    return std::nullopt;
 }
 
 }  // namespace fortu

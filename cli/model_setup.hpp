@@ -1,6 +1,7 @@
 // cli/model_setup.hpp — what every front end (the command line, the Python module) does
 // before it evaluates: compile a model's text, size the grid a request names, refuse a
-// classic run over its budget. One copy, so their messages and limits are the same.
+// classic run over its budget or a mesh it cannot make. One copy, so their messages and
+// limits are the same.
 #pragma once
 
 #include "grammar/diagnostic.hpp"
@@ -39,5 +40,13 @@ std::string grid_text(const Grid& grid);
 /// Why `engine` must not run `points` points of `model` (the classic engine over `budget`
 /// operations or nested deeper than it recurses), with the advice note; nullopt when it may.
 std::optional<std::string> classic_refusal(const Model& model, const Engine& engine, double points, double budget);
+
+/// Why `model` cannot be meshed on `grid` (interp/mesher.hpp): a 2D model, or fewer than 2
+/// nodes along an axis, which the size is to blame for (each front end names its own option).
+struct MeshRefusal {
+    bool size_at_fault = false;
+    std::string message;   ///< without the option's name
+};
+std::optional<MeshRefusal> mesh_refusal(const Model& model, const Grid& grid);
 
 }  // namespace fortu

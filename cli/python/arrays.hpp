@@ -1,5 +1,5 @@
 // cli/python/arrays.hpp — numpy in and out: coordinates of any broadcastable shape read in
-// place (no broadcast copies), fields and M-images handed to numpy without a copy.
+// place (no broadcast copies), fields, M-images and meshes handed to numpy without a copy.
 #pragma once
 
 #include "runtime/field.hpp"
@@ -7,6 +7,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <array>
 #include <cstddef>
 #include <vector>
 
@@ -48,6 +49,17 @@ pybind11::array field_array(Field&& field, bool float32);
 
 /// An ndarray owning `values`, of `shape`, without a copy.
 pybind11::array_t<double> owning_array(std::vector<double>&& values, std::vector<pybind11::ssize_t> shape);
+
+/// An (n, 3) ndarray owning `rows` (a mesh's vertices, normals or triangles), without a copy:
+/// std::array<T, 3> has no padding, so the vector's storage is already C order.
+template <typename T>
+pybind11::array_t<T> owning_rows(std::vector<std::array<T, 3>>&& rows) {
+    static_assert(sizeof(std::array<T, 3>) == 3 * sizeof(T));
+    auto* owned = new std::vector<std::array<T, 3>>(std::move(rows));
+    pybind11::capsule free_when_done(owned, [](void* p) { delete static_cast<std::vector<std::array<T, 3>>*>(p); });
+    return pybind11::array_t<T>({static_cast<pybind11::ssize_t>(owned->size()), pybind11::ssize_t{3}},
+                                owned->empty() ? nullptr : owned->front().data(), free_when_done);
+}
 
 /// The node coordinates along one axis (0 x, 1 y, 2 z) in the order of field_array's
 /// axes: x ascending (columns), y descending (rows), z ascending (slices).

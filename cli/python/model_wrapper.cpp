@@ -10,6 +10,7 @@
 #include "cli/python/interrupt.hpp"
 #include "cli/python/picture.hpp"
 #include "interp/grid_size.hpp"
+#include "interp/mesher.hpp"
 #include "interp/singular.hpp"
 #include "interp/stage_print.hpp"
 #include "interp/voxel_engine.hpp"
@@ -103,11 +104,15 @@ const Engine& engine_of(py::handle engine, const std::string& precision, std::un
     return *tuned;
 }
 
-void check_points(std::size_t points, std::size_t max_points) {
-    if (points > max_points)
-        throw py::value_error(fmt::format("{} points requested, more than max_points = {} (each float64 array "
-                                          "{}); evaluate in pieces, or raise max_points if the memory is there",
-                                          points, max_points, format_bytes(max_points * sizeof(double))));
+void check_points(std::size_t points, std::size_t max_points, bool arrays) {
+    if (points <= max_points) return;
+    if (!arrays)   // a mesh allocates only what its surface crosses: the limit is on its time
+        throw py::value_error(fmt::format("{} grid nodes requested, more than max_points = {}; raise max_points "
+                                          "if the time is there",
+                                          points, max_points));
+    throw py::value_error(fmt::format("{} points requested, more than max_points = {} (each float64 array "
+                                      "{}); evaluate in pieces, or raise max_points if the memory is there",
+                                      points, max_points, format_bytes(max_points * sizeof(double))));
 }
 
 }  // namespace
@@ -155,12 +160,13 @@ std::shared_ptr<const ModelWrapper::Compiled> ModelWrapper::with(const ConstantV
 
 py::list ModelWrapper::diagnostics() const { return py::cast(warnings_); }
 
-Grid ModelWrapper::grid_for(const Model& model, py::handle size, py::handle domain, std::size_t max_points) const {
+Grid ModelWrapper::grid_for(const Model& model, py::handle size, py::handle domain, std::size_t max_points,
+                            bool arrays) const {
     const std::vector<int> nodes = size_of(size);
     if (model.dims() == 2 && nodes.size() == 3)
         throw py::value_error(fmt::format("size: the model has {} argument(s); give N or (W, H)", model.arguments.size()));
     const Grid grid = sized_grid(model, nodes, domain_of(domain));  // the CLI's --size: square cells
-    check_points(grid.points(), max_points);
+    check_points(grid.points(), max_points, arrays);
     return grid;
 }
 
@@ -180,7 +186,7 @@ py::object ModelWrapper::eval(const std::vector<py::handle>& coordinates, int th
         return py::float_(c.points.value(p));
     }
     const PointArrays arrays(coordinates);
-    check_points(arrays.points(), max_points);
+    check_points(arrays.points(), max_points, /*arrays=*/true);
     std::vector<double> out(arrays.points());
     EvalOptions options;
     options.threads = threads;
@@ -205,7 +211,7 @@ py::array ModelWrapper::gradient(const std::vector<py::handle>& coordinates, std
     if (given != std::max(dims, 2) && !(dims == 1 && given == 1))
         throw py::type_error(fmt::format("the model has {} argument(s); give {} coordinate(s)", dims, std::max(dims, 2)));
     const PointArrays arrays(coordinates);
-    check_points(arrays.points() * std::max(dims, 2), max_points);
+    check_points(arrays.points() * std::max(dims, 2), max_points, /*arrays=*/true);
     const int components = std::max(dims, 2);
     std::vector<double> out(arrays.points() * components);
     auto work = [&](const std::atomic<bool>* cancel) {
@@ -275,6 +281,24 @@ py::array ModelWrapper::mimages(py::handle size, py::handle domain, int threads,
     std::vector<py::ssize_t> shape{components, grid.rows(), grid.cols()};
     if (grid.dims == 3) shape.insert(shape.begin() + 1, grid.slices());
     return owning_array(std::move(out), shape);
+}
+
+py::tuple ModelWrapper::mesh(py::handle size, py::handle domain, int threads, std::size_t max_points,
+                             const ConstantValues& constants) {
+    const std::shared_ptr<const Compiled> held = with(constants);
+    const Compiled& c = *held;
+    const Grid grid = grid_for(c.model, size, domain, max_points, /*arrays=*/false);
+    if (const std::optional<MeshRefusal> refusal = mesh_refusal(c.model, grid))
+        throw py::value_error(refusal->size_at_fault ? "size: " + refusal->message : refusal->message);
+    Mesh mesh;
+    EvalOptions options;
+    options.threads = threads;
+    run_interruptible([&](const std::atomic<bool>* cancel) {
+        options.cancel = cancel;
+        mesh = extract_mesh(c.model.graph, c.model.root, grid, options);
+    });
+    return py::make_tuple(owning_rows(std::move(mesh.vertices)), owning_rows(std::move(mesh.triangles)),
+                          owning_rows(std::move(mesh.normals)));
 }
 
 py::array ModelWrapper::singular_points(py::handle size, py::handle domain, const ConstantValues& constants) {

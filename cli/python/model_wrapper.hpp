@@ -7,6 +7,7 @@
 #include "interp/model.hpp"
 #include "interp/point_list.hpp"
 #include "runtime/field.hpp"
+#include "runtime/grid.hpp"
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -23,6 +24,9 @@ namespace fortu::python {
 /// Points one call may return (each float64 array at most 512 MiB): a larger request is a
 /// ValueError naming the limit, never an allocation the machine cannot hold.
 inline constexpr std::size_t kDefaultMaxPoints = std::size_t{1} << 26;
+/// Grid nodes a mesh may walk by default: the command line's grid limit, since the mesher
+/// keeps only the cells the surface crosses (a 513³ lattice is within it, over 2²⁶).
+inline constexpr std::size_t kDefaultMeshMaxPoints = kMaxGridPoints;
 
 /// CONSTANT values given to one call (`m.grid(R=0.8)`), by name.
 using ConstantValues = std::vector<std::pair<std::string, double>>;
@@ -60,6 +64,9 @@ public:
                    const ConstantValues& constants);
     pybind11::array mimages(pybind11::handle size, pybind11::handle domain, int threads, std::size_t max_points,
                             const ConstantValues& constants);
+    /// The mesh `fortu run -o m.ply` writes: (vertices, triangles, normals).
+    pybind11::tuple mesh(pybind11::handle size, pybind11::handle domain, int threads, std::size_t max_points,
+                         const ConstantValues& constants);
     pybind11::array singular_points(pybind11::handle size, pybind11::handle domain, const ConstantValues& constants);
     std::string ir(const std::string& stage, const ConstantValues& constants);
     pybind11::bytes png(const ConstantValues& constants);
@@ -76,7 +83,10 @@ private:
     /// Shared: a call holds it while another thread (the GIL released) may evict it.
     std::shared_ptr<const Compiled> with(const ConstantValues& constants);
     std::shared_ptr<const Compiled> compile_with(const ConstantValues& constants, std::vector<DiagnosticView>* warnings) const;
-    Grid grid_for(const Model& model, pybind11::handle size, pybind11::handle domain, std::size_t max_points) const;
+    /// The grid `size` and `domain` name, as `fortu run` sizes it; ValueError over
+    /// `max_points` (`arrays`: points the call returns values for, else nodes a mesh walks).
+    Grid grid_for(const Model& model, pybind11::handle size, pybind11::handle domain, std::size_t max_points,
+                  bool arrays = true) const;
 
     std::shared_ptr<const SourceFile> source_;
     std::vector<std::string> include_path_;

@@ -117,11 +117,13 @@ constexpr const char* kModuleDoc = R"(fortu: FORTU models (R-functions, the func
     f = m.grid(size=800)                               # fortu.Field: f.values, f.x, f.y
     f.values.shape                                     # (800, 800), row 0 the largest Y
     m.grid(size=800, R=0.8)                            # a CONSTANT set for this call
+    v, t, n = fortu.compile("examples/pawn.fortu").mesh(size=161)   # 3D models: a mesh
 
 The values are the fortu command's, bit for bit (float64): m.eval(x, y) prints as
-`fortu eval MODEL x y` does, m.grid(...).values equals `fortu run MODEL -o x.npy`.
-Evaluation releases the GIL and stops on Ctrl-C (KeyboardInterrupt). A model or field
-shows as a picture in Jupyter (_repr_png_). Meshes are not available yet.)";
+`fortu eval MODEL x y` does, m.grid(...).values equals `fortu run MODEL -o x.npy`,
+m.mesh(...) is the mesh `fortu run MODEL -o m.ply` writes. Evaluation and meshing release
+the GIL and stop on Ctrl-C (KeyboardInterrupt). A model or field shows as a picture in
+Jupyter (_repr_png_).)";
 
 constexpr const char* kGridDoc = R"(Samples the model on a grid, as `fortu run` does; returns a fortu.Field.
 
@@ -141,6 +143,22 @@ The Field has .values, an ndarray in the command line's orientation: shape (rows
 or (slices, rows, cols) in 3D; values[row, col] is the value at (x[col], y[row]) (and
 values[slice, row, col] at z[slice]), where .x is ascending, .y DESCENDING (row 0 is the
 largest Y, as in the picture) and .z ascending. np.asarray(field) gives the same values.)";
+
+constexpr const char* kMeshDoc = R"(The model's zero surface as a closed triangle mesh: exactly the mesh
+`fortu run MODEL --size ... --domain ... -o m.ply` writes. Returns (vertices, triangles, normals):
+vertices float64 (n, 3); triangles uint32 (m, 3), indices into vertices (the PLY's own type),
+counter-clockwise seen from outside; normals float64 (n, 3), the outward unit normal at each
+vertex. Every edge is in exactly two triangles; a surface that misses the domain gives
+empty (0, 3) arrays.
+
+size, domain: the grid, as grid() takes them (its nodes are the lattice: N nodes, N - 1
+cells per axis); at least 2 nodes per axis. Inside is value > 0; the domain's outer nodes
+count as outside, so a solid the domain cuts is closed just inside its faces.
+threads: 0 for all cores (the mesh is the same on any number).
+max_points: grids of more nodes raise ValueError (default 2**28, the command line's limit;
+    only the cells the surface crosses are kept).
+constants / **R: CONSTANT values for this call, as grid() takes them.
+ValueError for a 2D model.)";
 
 }  // namespace
 
@@ -232,6 +250,13 @@ not broadcast or more than max_points points.)")
              py::arg("max_points") = max_points, py::arg("constants") = py::none(),
              R"(The FV model's components n1..n4 (3D: n1..n5) of the float64 grid, unquantised (as
 `--mimages m.exr`): shape (4, rows, cols) or (5, slices, rows, cols), same orientation as grid().)")
+        .def("mesh",
+             [](ModelWrapper& w, py::handle size, py::handle domain, int threads, std::size_t max_points,
+                py::object constants, py::kwargs kwargs) {
+                 return w.mesh(size, domain, threads, max_points, constants_of(kwargs, constants));
+             },
+             py::kw_only(), py::arg("size") = py::none(), py::arg("domain") = py::none(), py::arg("threads") = 0,
+             py::arg("max_points") = kDefaultMeshMaxPoints, py::arg("constants") = py::none(), kMeshDoc)
         .def("singular_points",
              [](ModelWrapper& w, py::handle size, py::handle domain, py::object constants, py::kwargs kwargs) {
                  return w.singular_points(size, domain, constants_of(kwargs, constants));

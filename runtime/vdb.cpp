@@ -36,9 +36,9 @@ void write_vdb(const Field& field, const OutputTarget& target, const OutputOptio
     std::string error;
     const VdbModule* module = vdb_module(error);
     if (!module) throw OutputError(target.path, error);
-    write_atomically(target.path, [&](const std::string& temp) {
-        if (std::string e = module->write(temp, field, options.vdb_band); !e.empty()) throw OutputError(target.path, e);
-    });
+    std::string bytes;
+    if (std::string e = module->encode(field, options.vdb_band, bytes); !e.empty()) throw OutputError(target.path, e);
+    write_file_atomically(target.path, [&](OutputFile& out) { out.write(bytes); });
 }
 
 }  // namespace fortu

@@ -16,10 +16,12 @@ namespace fortu {
 /// The plug-in's interface (vdb_module.cpp).
 struct VdbModule {
     int version;
-    /// Writes `field` to `file`; "" or the reason it failed.
-    std::string (*write)(const std::string& file, const Field& field, double band_cells);
+    /// Encodes `field` as the bytes of a .vdb file into `bytes`; "" or the reason it failed.
+    /// Bytes, not a file: OpenVDB's own file writer ignores write errors (a full disk would
+    /// leave a truncated file), so the caller writes them through the checked write path.
+    std::string (*encode)(const Field& field, double band_cells, std::string& bytes);
 };
-inline constexpr int kVdbModuleVersion = 1;
+inline constexpr int kVdbModuleVersion = 2;
 
 /// Writes the .vdb through the plug-in, atomically. Throws OutputError.
 void write_vdb(const Field& field, const OutputTarget& target, const OutputOptions& options);

@@ -9,11 +9,21 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <sstream>
 
 namespace fortu {
 namespace {
 
-std::string write(const std::string& file, const Field& field, double band_cells) {
+/// io::File's layout (a seekable archive with grid offsets, which io::File reads back) into
+/// any stream: Archive's stream writer is protected, io::File's opens its own unchecked file.
+class MemoryArchive : public openvdb::io::Archive {
+public:
+    void write_to(std::ostream& os, const openvdb::GridCPtrVec& grids) const {
+        Archive::write(os, grids, /*seekable=*/true);
+    }
+};
+
+std::string encode(const Field& field, double band_cells, std::string& bytes) {
     try {
         openvdb::initialize();
         const Grid& g = field.grid;
@@ -33,16 +43,17 @@ std::string write(const std::string& file, const Field& field, double band_cells
         });
         openvdb::tools::signedFloodFillWithValues(grid->tree(), static_cast<float>(band), static_cast<float>(-band));
         grid->pruneGrid();
-        openvdb::io::File out(file);
-        out.write({grid});
-        out.close();
+        std::ostringstream out(std::ios::binary);
+        MemoryArchive().write_to(out, {grid});
+        if (!out) return "OpenVDB could not encode the grid";
+        bytes = std::move(out).str();
         return "";
     } catch (const std::exception& e) {
         return e.what();
     }
 }
 
-const VdbModule kModule{kVdbModuleVersion, write};
+const VdbModule kModule{kVdbModuleVersion, encode};
 
 }  // namespace
 }  // namespace fortu

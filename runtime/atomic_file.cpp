@@ -143,29 +143,19 @@ void write_atomically(const std::string& path,
 }
 
 void write_file_atomically(const std::string& path, const std::function<void(OutputFile&)>& write) {
-    Temporary created = create_temporary(path);
-    const std::string temp = created.path;
-    TemporaryGuard guard(std::move(created));
-    try {
+    write_atomically(path, [&](const std::string& temp) {
         const int fd = ::open(temp.c_str(), O_WRONLY | O_TRUNC | O_CLOEXEC);
         if (fd < 0) throw OutputError(path, system_reason(errno));
         try {
             OutputFile out(fd, path);
             write(out);
             out.flush();
-            if (::fsync(fd) != 0) throw OutputError(path, system_reason(errno));
         } catch (...) {
             ::close(fd);
             throw;
         }
-        if (::close(fd) != 0) throw OutputError(path, system_reason(errno));
-        if (::rename(temp.c_str(), path.c_str()) != 0) throw OutputError(path, system_reason(errno));
-        guard.renamed();
-    } catch (const OutputError&) {
-        throw;
-    } catch (const std::exception& e) {
-        throw OutputError(path, e.what());
-    }
+        if (::close(fd) != 0) throw OutputError(path, system_reason(errno));   // write_atomically then fsyncs it
+    });
 }
 
 }  // namespace fortu

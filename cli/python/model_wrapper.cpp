@@ -170,14 +170,24 @@ Grid ModelWrapper::grid_for(const Model& model, py::handle size, py::handle doma
     return grid;
 }
 
+namespace {
+
+/// The number of coordinate arrays given; a TypeError unless the model takes that many.
+int coordinate_count(int dims, const std::vector<py::handle>& coordinates) {
+    const int given = static_cast<int>(coordinates.size());
+    if (given != std::max(dims, 2) && !(dims == 1 && given == 1))
+        throw py::type_error(fmt::format("the model has {} argument(s); give {} coordinate(s)", dims, std::max(dims, 2)));
+    return given;
+}
+
+}  // namespace
+
 py::object ModelWrapper::eval(const std::vector<py::handle>& coordinates, int threads, std::size_t max_points,
                               const ConstantValues& constants) {
     const std::shared_ptr<const Compiled> held = with(constants);
     const Compiled& c = *held;
     const int dims = static_cast<int>(c.model.arguments.size());
-    const int given = static_cast<int>(coordinates.size());
-    if (given != std::max(dims, 2) && !(dims == 1 && given == 1))
-        throw py::type_error(fmt::format("the model has {} argument(s); give {} coordinate(s)", dims, std::max(dims, 2)));
+    const int given = coordinate_count(dims, coordinates);
     bool scalars = true;
     for (py::handle h : coordinates) scalars = scalars && is_number(h);
     if (scalars) {
@@ -207,9 +217,7 @@ py::array ModelWrapper::gradient(const std::vector<py::handle>& coordinates, std
     const std::shared_ptr<const Compiled> held = with(constants);
     const Compiled& c = *held;
     const int dims = static_cast<int>(c.model.arguments.size());
-    const int given = static_cast<int>(coordinates.size());
-    if (given != std::max(dims, 2) && !(dims == 1 && given == 1))
-        throw py::type_error(fmt::format("the model has {} argument(s); give {} coordinate(s)", dims, std::max(dims, 2)));
+    const int given = coordinate_count(dims, coordinates);
     const PointArrays arrays(coordinates);
     check_points(arrays.points() * std::max(dims, 2), max_points, /*arrays=*/true);
     const int components = std::max(dims, 2);

@@ -152,12 +152,22 @@ void add_picture_options(OptionTable& t, CliOptions& o) {
                                         "picture is a shaded view of the solid",
              [&o](const std::string& v) { o.slice = parse_slice_choice(v); });
     t.option("--view", "top|front|side|iso|AZ,EL", "the direction of a 3D shaded view (default iso;\n"
-                                                   "AZ: degrees about Z from the front, EL: above XY)",
+                                                   "AZ: degrees about the --up axis from the front, EL: above)",
              [&o](const std::string& v) {
                  const std::optional<ViewDirection> view = parse_view_direction(v);
                  if (!view) throw UsageError(fmt::format("--view: '{}' is not top, front, side, iso or AZ,EL in degrees "
                                                          "(EL from -90 to 90)", v));
+                 const int up = o.view.up;
                  o.view = *view;
+                 o.view.up = up;
+             });
+    t.option("--up", "x|y|z", "the axis a shaded view draws upwards (default y, as RANOK's\n"
+                              "scripts and the Prospero models stand; z: front from -Y)",
+             [&o](const std::string& v) {
+                 if (v == "x" || v == "X") o.view.up = 0;
+                 else if (v == "y" || v == "Y") o.view.up = 1;
+                 else if (v == "z" || v == "Z") o.view.up = 2;
+                 else throw UsageError(fmt::format("--up: '{}' is not x, y or z", v));
              });
 }
 

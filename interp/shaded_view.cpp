@@ -53,6 +53,14 @@ Camera make_camera(const std::array<AxisRange, 3>& box, const ViewDirection& vie
     c.up = {eye[1] * c.right[2] - eye[2] * c.right[1], eye[2] * c.right[0] - eye[0] * c.right[2],
             eye[0] * c.right[1] - eye[1] * c.right[0]};
     c.into = {-eye[0], -eye[1], -eye[2]};
+    // The frame above has Z up; a rotation (a cyclic or quarter turn, right-handed) stands
+    // it on the chosen axis.
+    const auto stand = [&view](const Vec& v) -> Vec {
+        if (view.up == 1) return {v[0], v[2], -v[1]};
+        if (view.up == 0) return {v[2], v[0], v[1]};
+        return v;
+    };
+    c.right = stand(c.right), c.up = stand(c.up), c.into = stand(c.into);
     double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
     for (int corner = 0; corner < 8; ++corner) {
         const Vec p{corner & 1 ? box[0].max : box[0].min, corner & 2 ? box[1].max : box[1].min,

@@ -24,11 +24,14 @@
 
 namespace fortu {
 
-/// The direction the solid is seen from: azimuth about Z (0: from −Y, the front; 90: from
-/// +X, the side) and elevation above the XY plane (90: from +Z, the top), in degrees.
+/// The direction the solid is seen from, in degrees: azimuth about the `up` axis and
+/// elevation above the plane across it (90: the top). With Y up (the default: RANOK's
+/// scripts and the Prospero models stand on Y) front is from +Z and side from +X; with Z up,
+/// front is from −Y and side from +X; with X up, front is from −Z and side from +Y.
 struct ViewDirection {
     double azimuth = 0.0;
     double elevation = 0.0;
+    int up = 1;   ///< the axis drawn upwards: 0 X, 1 Y, 2 Z
 };
 
 /// `top`, `front`, `side`, `iso` (azimuth 45, elevation 35.26) or `AZ,EL` in degrees;

@@ -157,6 +157,39 @@ TEST_CASE("--slice evaluates one plane of any size; a shaded view otherwise") {
     CHECK(v->pixels[centre] < 0.95f);    // the sphere, shaded
 }
 
+TEST_CASE("--up stands a shaded view on Y (the default) or on another axis") {
+    // A rod along Y: seen from the side it stands upright with Y up and lies flat with Z up.
+    fortu::test::ScratchDir t;
+    const std::string rod = t.write("rod.fortu", "ARGUMENT X(-1, 1), Y(-1, 1), Z(-1, 1);\n"
+                                                 "RETURN (0.04 - X*X - Z*Z) & (0.81 - Y*Y);\n");
+    // The extent of the drawn (non-white) pixels along the picture's columns and rows.
+    auto extent = [&](const std::string& args) {
+        const std::string png = "rod.png";
+        REQUIRE(run_fortu("run " + quote(rod) + " --size 64 --view side " + args + " -o " + png, t.path).status == 0);
+        std::string error;
+        const auto image = read_image(t / png, error);
+        REQUIRE(image);
+        const std::size_t channels = image->channels.size();
+        int col_lo = image->cols, col_hi = -1, row_lo = image->rows, row_hi = -1;
+        for (int row = 0; row < image->rows; ++row)
+            for (int col = 0; col < image->cols; ++col)
+                if (image->pixels[(std::size_t(row) * image->cols + col) * channels] < 0.99f) {
+                    col_lo = std::min(col_lo, col), col_hi = std::max(col_hi, col);
+                    row_lo = std::min(row_lo, row), row_hi = std::max(row_hi, row);
+                }
+        return std::pair<int, int>{col_hi - col_lo + 1, row_hi - row_lo + 1};
+    };
+    const auto [y_wide, y_tall] = extent("");
+    CHECK(y_tall > 3 * y_wide);
+    const auto [z_wide, z_tall] = extent("--up z");
+    CHECK(z_wide > 3 * z_tall);
+    const auto [x_wide, x_tall] = extent("--up X");   // X up, side from +Y: along the rod, a disc
+    CHECK(x_wide == x_tall);
+    const auto [xf_wide, xf_tall] = extent("--up X --view front");   // front from -Z: Y runs across
+    CHECK(xf_wide > 3 * xf_tall);
+    CHECK(run_fortu("run " + quote(rod) + " --up w -o a.png", t.path).out == "fortu: error: --up: 'w' is not x, y or z\n");
+}
+
 TEST_CASE("slice, size and view usage errors exit 2") {
     fortu::test::ScratchDir t;
     const std::string m = quote(kSphere);

@@ -101,4 +101,62 @@ Tape compile_tape(const ir::Graph& graph, const TapeSpec& spec) {
     return tape;
 }
 
+void reallocate_slots(const Tape& ssa, Tape& out, SlotScratch& s) {
+    const std::size_t end = ssa.code.size();
+    auto reads = [](const Instruction& ins, int k) { return !(ins.constant_operands & (1u << k)); };
+    s.last_use.assign(ssa.slot_count, 0);
+    s.computed.assign(ssa.slot_count, 0);
+    for (std::size_t i = 0; i < end; ++i) {
+        const Instruction& ins = ssa.code[i];
+        s.computed[ins.out] = 1;
+        for (int k = 0; k < ir::op_arity(ins.op); ++k)
+            if (reads(ins, k)) s.last_use[ins.in[k]] = i;
+    }
+    for (uint32_t slot : ssa.outputs) s.last_use[slot] = end;
+
+    s.renamed.assign(ssa.slot_count, 0);
+    s.free_slots.clear();
+    uint32_t next_slot = 0;
+    out.zero_slot = next_slot++;
+    s.renamed[ssa.zero_slot] = out.zero_slot;
+    out.arguments.clear();
+    out.constants.clear();
+    out.inputs.clear();
+    for (auto [slot, axis] : ssa.arguments) out.arguments.emplace_back(s.renamed[slot] = next_slot++, axis);
+    for (auto [slot, value] : ssa.constants) out.constants.emplace_back(s.renamed[slot] = next_slot++, value);
+    for (auto [slot, index] : ssa.inputs) out.inputs.emplace_back(s.renamed[slot] = next_slot++, index);
+    auto allocate = [&]() -> uint32_t {
+        if (s.free_slots.empty()) return next_slot++;
+        const uint32_t slot = s.free_slots.back();
+        s.free_slots.pop_back();
+        return slot;
+    };
+
+    out.code.resize(end);
+    for (std::size_t i = 0; i < end; ++i) {
+        Instruction ins = ssa.code[i];
+        const int arity = ir::op_arity(ins.op);
+        for (int k = 0; k < arity; ++k)
+            if (reads(ins, k)) ins.in[k] = s.renamed[ssa.code[i].in[k]];
+        // As in compile_tape: the result never shares a slot with an operand (restrict).
+        ins.out = s.renamed[ssa.code[i].out] = allocate();
+        for (int k = 0; k < arity; ++k) {
+            const uint32_t operand = ssa.code[i].in[k];
+            bool seen_before = false;
+            for (int j = 0; j < k; ++j) seen_before |= reads(ins, j) && ssa.code[i].in[j] == operand;
+            if (reads(ins, k) && !seen_before && s.computed[operand] && s.last_use[operand] == i)
+                s.free_slots.push_back(s.renamed[operand]);
+        }
+        if (s.last_use[ssa.code[i].out] <= i)
+            s.free_slots.push_back(ins.out);   // never read: its slot serves the next result
+        out.code[i] = ins;
+    }
+    out.uniform_uses = ssa.uniform_uses;
+    out.outputs.clear();
+    for (uint32_t slot : ssa.outputs) out.outputs.push_back(s.renamed[slot]);
+    out.root_slot = out.outputs.empty() ? out.zero_slot : out.outputs[0];
+    out.slot_count = next_slot;
+    out.node_count = ssa.node_count;
+}
+
 }  // namespace fortu

@@ -65,6 +65,22 @@ struct Tape {
 };
 
 Tape compile_tape(const ir::Graph& graph, const TapeSpec& spec);
+
+/// Working memory of reallocate_slots, reused from call to call.
+struct SlotScratch {
+    std::vector<std::size_t> last_use;
+    std::vector<uint32_t> renamed;
+    std::vector<uint32_t> free_slots;
+    std::vector<uint8_t> computed;
+};
+
+/// `ssa` (one slot per value, as the per-box simplification needs) with its slots reused
+/// after their last use, as compile_tape allocates them: the same instructions in the same
+/// order computing the same values, in max-live slots instead of one per node. Why: a box's
+/// points are evaluated in lanes of slot_count × points, and a deep model that no box
+/// simplifies would otherwise cost nodes × points (400,000 nodes × 125 points: 400 MB a
+/// worker).
+void reallocate_slots(const Tape& ssa, Tape& out, SlotScratch& scratch);
 inline Tape compile_tape(const ir::Graph& graph, ir::NodeId root) { return compile_tape(graph, TapeSpec{{root}, {}, {}}); }
 
 }  // namespace fortu

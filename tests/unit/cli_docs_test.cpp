@@ -6,7 +6,8 @@
 //
 // Why: a reference nobody runs drifts from the code; with this test, adding an operation or
 // a stdlib function without documenting it, or changing what a documented example gives,
-// fails the build's tests.
+// fails the build's tests. The README and docs/ must also link only to files (and headings)
+// that ship.
 //
 // The expectation comments inside a block:
 //   // eval X Y [Z] → V        `fortu eval` prints value V (to 1e-12 relative; nan, inf, -inf exact)
@@ -31,6 +32,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <regex>
 #include <set>
 #include <sstream>
 #include <string>
@@ -224,7 +226,66 @@ std::vector<std::string> stdlib_functions() {
     return names;
 }
 
+/// GitHub's anchor for a heading: lower case, ASCII letters, digits, '-' and '_' kept, spaces
+/// to '-', everything else dropped.
+std::string anchor_of(const std::string& heading) {
+    std::string out;
+    const std::size_t text = heading.find_first_not_of("# ");
+    for (std::size_t i = text == std::string::npos ? heading.size() : text; i < heading.size(); ++i) {
+        const unsigned char c = static_cast<unsigned char>(heading[i]);
+        if (c == ' ') out += '-';
+        else if (c < 0x80 && (std::isalnum(c) || c == '-' || c == '_')) out += static_cast<char>(std::tolower(c));
+    }
+    while (!out.empty() && out.back() == '-') out.pop_back();
+    return out;
+}
+
+/// The anchors a Markdown file offers: its headings' and its `<a id="...">`s.
+std::set<std::string> anchors_in(const std::filesystem::path& file) {
+    std::set<std::string> anchors;
+    const std::string text = fortu::test::read_file(file);
+    for (const Heading& h : headings(lines_of(text))) anchors.insert(anchor_of(h.text));
+    const std::regex id("<a id=\"([^\"]+)\">");
+    for (auto m = std::sregex_iterator(text.begin(), text.end(), id); m != std::sregex_iterator(); ++m)
+        anchors.insert((*m)[1]);
+    return anchors;
+}
+
+/// The relative links `[text](target)` of a Markdown file outside code blocks that name no
+/// file or heading of the repository.
+std::vector<std::string> broken_links(const std::filesystem::path& file) {
+    std::string prose;
+    bool in_fence = false;
+    for (const std::string& line : lines_of(fortu::test::read_file(file))) {
+        if (line.rfind("```", 0) == 0) in_fence = !in_fence;
+        else if (!in_fence) prose += line + "\n";
+    }
+    std::vector<std::string> broken;
+    const std::regex link("\\]\\(([^)\\s]+)\\)");
+    for (auto m = std::sregex_iterator(prose.begin(), prose.end(), link); m != std::sregex_iterator(); ++m) {
+        const std::string target = (*m)[1];
+        if (std::regex_search(target, std::regex("^[a-z]+:"))) continue;   // https:, mailto:
+        const std::string path = target.substr(0, target.find('#'));
+        const std::string anchor = target.find('#') == std::string::npos ? "" : target.substr(target.find('#') + 1);
+        const std::filesystem::path named = path.empty() ? file : file.parent_path() / path;
+        if (!std::filesystem::exists(named)) broken.push_back(target + " (no such file)");
+        else if (!anchor.empty() && named.extension() == ".md" && !anchors_in(named).count(anchor))
+            broken.push_back(target + " (no such heading)");
+    }
+    return broken;
+}
+
 }  // namespace
+
+TEST_CASE("docs: the README and docs/ link only to files and headings that ship") {
+    for (const char* name : {"README.md", "docs/language.md", "docs/fv-method.md", "docs/design.md",
+                             "examples/README.md", "bench/README.md"}) {
+        INFO(name);
+        CHECK(broken_links(kSource / name) == std::vector<std::string>{});
+    }
+    CHECK(anchor_of("### `a & b` (R-conjunction) and `a | b` (R-disjunction)") == "a--b-r-conjunction-and-a--b-r-disjunction");
+    CHECK(anchor_of("## §1 The FV model: M-images") == "1-the-fv-model-m-images");
+}
 
 TEST_CASE("docs: every ```fortu example in docs/language.md runs and gives the value it says") {
     const std::string text = fortu::test::read_file(kReference);

@@ -281,7 +281,9 @@ TEST_CASE("docs: the README and docs/ link only to files and headings that ship"
     for (const char* name : {"README.md", "docs/language.md", "docs/fv-method.md", "docs/design.md",
                              "examples/README.md", "bench/README.md"}) {
         INFO(name);
-        CHECK(broken_links(kSource / name) == std::vector<std::string>{});
+        std::string broken;
+        for (const std::string& link : broken_links(kSource / name)) broken += link + "; ";
+        CHECK(broken == "");
     }
     CHECK(anchor_of("### `a & b` (R-conjunction) and `a | b` (R-disjunction)") == "a--b-r-conjunction-and-a--b-r-disjunction");
     CHECK(anchor_of("## §1 The FV model: M-images") == "1-the-fv-model-m-images");

@@ -1,7 +1,7 @@
 #!/bin/sh
 # bench/fv_accuracy.sh — the fv engine's error against exact evaluation (the voxel engine) on
 # the examples that reproduce the papers' figures, at P = 256, P = 2^24 and unquantised: a
-# Markdown table for the README. Usage: bench/fv_accuracy.sh [FORTU] [SIZE2D] [SIZE3D]
+# Markdown table for docs/fv-method.md ("Accuracy"). Usage: bench/fv_accuracy.sh [FORTU] [SIZE2D] [SIZE3D]
 # (default build/release/fortu, 200, 32). Columns: max |fv - exact| / largest |exact| (the
 # field's magnitude), RMS, nodes whose sign differs.
 set -eu

@@ -148,7 +148,7 @@ TEST_CASE("fv: unquantised, the values equal the exact engines' on every example
 }
 
 TEST_CASE("fv: the palettes' errors on two of the papers' figures are pinned") {
-    // The README's accuracy table; the same numbers as `fortu run --engine fv --compare voxel`.
+    // docs/fv-method.md's accuracy table (at 200²; here 64²); the same numbers as `fortu run --engine fv --compare voxel`.
     struct Row {
         const char* example;
         MimageStorage storage;

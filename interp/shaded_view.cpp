@@ -98,6 +98,8 @@ struct Scratch {
     std::vector<Interval> ranges;
     BoxScratch box;
     std::vector<std::unique_ptr<Tape>> tapes;
+    Tape leaf_tape;          ///< the leaf's tape in max-live slots (reallocate_slots)
+    SlotScratch slot_scratch;
     std::vector<double> lanes;
     std::vector<double*> slots;
     std::vector<ir::Dual> duals;
@@ -191,7 +193,10 @@ private:
         for (std::size_t k = 0; k < tape.slot_count; ++k) s.slots[k] = s.lanes.data() + k * kLeafLanes;
     }
 
-    void evaluate_leaf(const Region& r, const Tape& tape, Scratch& s) {
+    void evaluate_leaf(const Region& r, const Tape& ssa, Scratch& s) {
+        // Lanes cost slots × 512 points: SSA slots would cost a deep model gigabytes.
+        reallocate_slots(ssa, s.leaf_tape, s.slot_scratch);
+        const Tape& tape = s.leaf_tape;
         ensure_lanes(tape, s);
         const int w = r.c1 - r.c0 + 1, h = r.r1 - r.r0 + 1, d = r.k1 - r.k0 + 1;
         const int n = w * h * d;

@@ -32,6 +32,7 @@
 
 #include "interp/engine.hpp"
 #include "interp/ir/ir.hpp"
+#include "interp/mesh_features.hpp"
 #include "runtime/grid.hpp"
 #include "runtime/mesh.hpp"
 
@@ -45,7 +46,8 @@ struct MeshStats {
     std::size_t leaves = 0;           ///< leaves of 8³ cells whose nodes were evaluated
     std::size_t node_evaluations = 0; ///< grid nodes evaluated (on shortened tapes)
     std::size_t edge_evaluations = 0; ///< Newton/bisection steps on crossing edges, summed
-    std::size_t crossing_edges = 0;   ///< = vertices
+    std::size_t crossing_edges = 0;   ///< marching-tetrahedra vertices
+    FeatureStats features;            ///< the sharp features put back (mesh_features.hpp)
 };
 
 /// The closed mesh of `root`'s zero surface on `grid` (3D, at least 2 nodes per axis; its

@@ -11,8 +11,6 @@
 #include <map>
 #include <numbers>
 #include <unordered_map>
-#include <cstdio>
-#include <cstdlib>
 
 namespace fortu {
 namespace {
@@ -211,10 +209,10 @@ bool star_is_graph(const std::vector<Tri>& star, uint32_t apex, const std::vecto
     for (const Tri& t : star) {
         if (t[0] != apex) return false;
         const Vec u = sub(at[t[1]], at[t[0]]), v = sub(at[t[2]], at[t[0]]);
-        if (!(norm(cross(u, v)) / 2 >= kMinArea * h * h)) { if (std::getenv("FORTU_DEBUG_FEATURES")) std::fprintf(stderr, "  area %g\n", norm(cross(u, v)) / 2 / h / h); return false; }
+        if (!(norm(cross(u, v)) / 2 >= kMinArea * h * h)) return false;
         const double ux = dot(u, e1), uy = dot(u, e2), vx = dot(v, e1), vy = dot(v, e2);
         const double area = (ux * vy - uy * vx) / 2;
-        if (!(area >= kMinProjectedArea * h * h)) { if (std::getenv("FORTU_DEBUG_FEATURES")) std::fprintf(stderr, "  projected %g\n", area / h / h); return false; }
+        if (!(area >= kMinProjectedArea * h * h)) return false;
         turn += std::atan2(ux * vy - uy * vx, ux * vx + uy * vy);
     }
     return std::fabs(turn - 2 * std::numbers::pi) < 1e-6;
@@ -257,7 +255,9 @@ public:
 
     /// The patch of cell `id` (its triangles `patch`) replaced by a fan, if the cell holds a
     /// feature and every test passes.
-    void try_cell(uint64_t id, const std::vector<uint32_t>& patch, FeatureStats& stats) {
+    /// `neighbour`: the cell is next to a feature cell, and is tried whatever its normals (an
+    /// edge that only clips a cell leaves it with a patch on one face).
+    bool try_cell(uint64_t id, const std::vector<uint32_t>& patch, bool neighbour, FeatureStats& stats) {
         double lowest = 1;
         std::vector<uint32_t> vertices;
         for (uint32_t t : patch)
@@ -267,7 +267,7 @@ public:
         for (std::size_t i = 0; i < vertices.size() && lowest >= kFeatureCosine; ++i)
             for (std::size_t j = i + 1; j < vertices.size(); ++j)
                 lowest = std::min(lowest, dot(mesh_.normals[vertices[i]], mesh_.normals[vertices[j]]));
-        if (lowest >= kFeatureCosine) return;
+        if (lowest >= kFeatureCosine && !neighbour) return false;
         ++stats.cells_tested;
         const Cell cell = cell_box(id);
         const double margin = 1e-12 * cell.h;
@@ -285,7 +285,7 @@ public:
         const auto& ops = field_.operations();
         for (std::size_t k = 0; k < ops.size(); ++k)
             if (reaches_zero(ops[k].a) && reaches_zero(ops[k].b)) candidates.push_back(int(k));
-        if (candidates.empty()) return;
+        if (candidates.empty()) return false;
 
         Vec seed{0, 0, 0};
         for (uint32_t v : vertices)
@@ -317,22 +317,25 @@ public:
                 point = p, meeting = candidates, used = equations, found = corner = true;
             }
         }
-        static const bool debug = std::getenv("FORTU_DEBUG_FEATURES") != nullptr;
-        auto why = [&](const char* what) {
-            if (debug) std::fprintf(stderr, "cell %llu (%g %g %g) corner=%d found=%d cand=%zu: %s\n", (unsigned long long)id, point[0], point[1], point[2], int(corner), int(found), candidates.size(), what);
-        };
         if (!found) {  // an edge: one operation's operands vanish together (one curve only)
             for (int k : candidates) {
+                // The nearest point of the edge to the patch may lie outside the cell where the
+                // edge only clips it: then from that point pulled back into the cell, again.
                 Vec p = seed;
-                if (!solve_feature(field_, {ops[k].a, ops[k].b}, 2, p, cell.h, reach) || !cell.contains(p, margin) ||
-                    !on_model_boundary(p))
-                    continue;
-                if (found && norm(sub(p, point)) > 1e-9 * cell.h) return;  // two curves: not one feature
+                bool inside = false;
+                for (int round = 0; round < 4 && !inside; ++round) {
+                    if (round > 0)
+                        for (int a = 0; a < 3; ++a) p[a] = std::clamp(p[a], cell.lo[a], cell.hi[a]);
+                    if (!solve_feature(field_, {ops[k].a, ops[k].b}, 2, p, cell.h, reach)) break;
+                    inside = cell.contains(p, margin);
+                }
+                if (!inside || !on_model_boundary(p)) continue;
+                if (found && norm(sub(p, point)) > 1e-9 * cell.h) return false;  // two curves: not one feature
                 if (!found) point = p, used = {ops[k].a, ops[k].b};
                 found = true;
                 meeting.push_back(k);
             }
-            if (!found) return why("no feature point");
+            if (!found) return false;
         }
 
         // The patch must be a disc whose inner vertices (on the cell's main diagonal) only
@@ -343,25 +346,25 @@ public:
         std::map<uint32_t, uint32_t> next;
         std::size_t undirected = 0;
         for (const auto& [e, n] : directed) {
-            if (n != 1) return why("edge used twice");
+            if (n != 1) return false;
             if (directed.count({e.second, e.first})) {
                 undirected += e.first < e.second;
                 continue;
             }
             ++undirected;
-            if (!next.emplace(e.first, e.second).second) return;  // the boundary touches itself
+            if (!next.emplace(e.first, e.second).second) return false;  // the boundary touches itself
         }
-        if (long(vertices.size()) - long(undirected) + long(patch.size()) != 1) return why("not a disc");
+        if (long(vertices.size()) - long(undirected) + long(patch.size()) != 1) return false;
         std::vector<uint32_t> loop{next.begin()->first};
         while (loop.size() <= next.size()) {
             const auto it = next.find(loop.back());
-            if (it == next.end()) return;
+            if (it == next.end()) return false;
             if (it->second == loop.front()) break;
             loop.push_back(it->second);
         }
-        if (loop.size() != next.size()) return why("not one loop");
+        if (loop.size() != next.size()) return false;
         for (uint32_t v : vertices)
-            if (!next.count(v) && !cell.contains(mesh_.vertices[v], -1e-9 * cell.h)) return why("inner vertex on face");
+            if (!next.count(v) && !cell.contains(mesh_.vertices[v], -1e-9 * cell.h)) return false;
 
         // Directions to look along: the mean of the feature's faces' outward normals (the
         // operands' unit gradients, turned to the patch's side), else the patch's mean normal.
@@ -396,7 +399,7 @@ public:
         }
         if (!graph) {
             positions_.pop_back();
-            return why("fan not a graph");
+            return false;
         }
         Fan fan{id, apex, point, direction, meeting, {}};
         for (const Tri& t : star) {
@@ -408,33 +411,28 @@ public:
         (corner ? stats.corner_vertices : stats.edge_vertices) += 1;
         fan_at_[id] = fans_.size();
         fans_.push_back(std::move(fan));
+        return true;
     }
 
     /// Joins the feature vertices of fans `a` and `b` (b the next cell along `axis`) by
     /// flipping the fan triangles on their shared face's piece of boundary.
     bool try_join(std::size_t ia, std::size_t ib, int axis) {
-        const bool ok = try_join_(ia, ib, axis);
-        if (!ok && std::getenv("FORTU_DEBUG_FEATURES")) std::fprintf(stderr, "join %llu axis %d failed at line %d\n", (unsigned long long)fans_[ia].cell, axis, fail_line_);
-        return ok;
-    }
-    int fail_line_ = 0;
-    bool try_join_(std::size_t ia, std::size_t ib, int axis) {
         Fan& A = fans_[ia];
         Fan& B = fans_[ib];
         bool shared = false;
         for (int k : A.operations) shared |= std::find(B.operations.begin(), B.operations.end(), k) != B.operations.end();
-        if (!shared) return (fail_line_ = __LINE__, false);
+        if (!shared) return false;
         const Cell ca = cell_box(A.cell);
         const double plane = ca.hi[axis], tolerance = 1e-9 * ca.h;
         auto on_face = [&](uint32_t v, bool strictly) {
-            if (v >= mesh_.vertices.size()) return (fail_line_ = __LINE__, false);  // a feature vertex
+            if (v >= mesh_.vertices.size()) return false;  // a feature vertex
             const Vec& p = positions_[v];
-            if (std::fabs(p[axis] - plane) > tolerance) return (fail_line_ = __LINE__, false);
+            if (std::fabs(p[axis] - plane) > tolerance) return false;
             for (int a = 0; a < 3; ++a) {
                 if (a == axis) continue;
                 if (strictly ? (p[a] <= ca.lo[a] + tolerance || p[a] >= ca.hi[a] - tolerance)
                              : (p[a] < ca.lo[a] - tolerance || p[a] > ca.hi[a] + tolerance))
-                    return (fail_line_ = __LINE__, false);
+                    return false;
             }
             return true;
         };
@@ -445,25 +443,25 @@ public:
             const Tri r = rotate_to(new_triangles_[t], A.vertex);
             if (on_face(r[1], false) && on_face(r[2], false)) run[r[1]] = {r[2], t};
         }
-        if (run.empty()) return (fail_line_ = __LINE__, false);
+        if (run.empty()) return false;
         std::map<uint32_t, int> incoming;
         for (const auto& [u, vt] : run) ++incoming[vt.first];
         uint32_t start = 0;
         int starts = 0;
         for (const auto& [u, vt] : run)
             if (!incoming.count(u)) start = u, ++starts;
-        if (starts != 1) return (fail_line_ = __LINE__, false);
+        if (starts != 1) return false;
         std::vector<uint32_t> chain{start};
         std::vector<std::size_t> removed;
         while (run.count(chain.back())) {
             const auto [v, t] = run[chain.back()];
             removed.push_back(t);
             chain.push_back(v);
-            if (chain.size() > run.size() + 1) return (fail_line_ = __LINE__, false);
+            if (chain.size() > run.size() + 1) return false;
         }
-        if (removed.size() != run.size()) return (fail_line_ = __LINE__, false);
+        if (removed.size() != run.size()) return false;
         for (std::size_t i = 1; i + 1 < chain.size(); ++i)
-            if (!on_face(chain[i], true)) return (fail_line_ = __LINE__, false);  // shared with cells beyond A and B
+            if (!on_face(chain[i], true)) return false;  // shared with cells beyond A and B
         // B's star must hold the same run backwards.
         for (std::size_t i = 0; i + 1 < chain.size(); ++i) {
             bool seen = false;
@@ -473,13 +471,13 @@ public:
                     seen = true;
                     break;
                 }
-            if (!seen) return (fail_line_ = __LINE__, false);
+            if (!seen) return false;
         }
         const Tri first{A.vertex, chain.front(), B.vertex}, second{B.vertex, chain.back(), A.vertex};
         Vec direction;
         for (int a = 0; a < 3; ++a) direction[a] = A.direction[a] + B.direction[a];
         const double length = norm(direction);
-        if (!(length > 0)) return (fail_line_ = __LINE__, false);
+        if (!(length > 0)) return false;
         for (double& c : direction) c /= length;
         auto star_after = [&](const Fan& f) {
             std::vector<Tri> star;
@@ -498,7 +496,7 @@ public:
             return false;
         };
         if (!graph(A) || !graph(B))
-            return (fail_line_ = __LINE__, false);
+            return false;
         for (std::size_t t : removed) alive_[t] = 0;
         for (const Tri& t : {first, second}) {
             A.triangles.push_back(new_triangles_.size());
@@ -507,6 +505,19 @@ public:
             alive_.push_back(1);
         }
         return true;
+    }
+
+    /// The cells sharing a face with cell `id`.
+    std::vector<uint64_t> face_neighbours(uint64_t id) const {
+        const uint64_t c[3] = {id % uint64_t(cells_[0]), id / uint64_t(cells_[0]) % uint64_t(cells_[1]),
+                               id / (uint64_t(cells_[0]) * uint64_t(cells_[1]))};
+        const uint64_t stride[3] = {1, uint64_t(cells_[0]), uint64_t(cells_[0]) * uint64_t(cells_[1])};
+        std::vector<uint64_t> out;
+        for (int a = 0; a < 3; ++a) {
+            if (c[a] > 0) out.push_back(id - stride[a]);
+            if (c[a] + 1 < uint64_t(cells_[a])) out.push_back(id + stride[a]);
+        }
+        return out;
     }
 
     void join_all(FeatureStats& stats) {
@@ -573,14 +584,31 @@ void sharpen_features(const ir::Graph& graph, ir::NodeId root, const Grid& grid,
         for (uint32_t t = 0; t < order.size(); ++t) order[t] = t;
         std::stable_sort(order.begin(), order.end(),
                          [&](uint32_t a, uint32_t b) { return triangle_cells[a] < triangle_cells[b]; });
-        std::vector<uint32_t> patch;
+        // Each cell's patch: order[begin, end).
+        std::unordered_map<uint64_t, std::pair<std::size_t, std::size_t>> patches;
+        std::vector<uint64_t> cells;
         for (std::size_t i = 0; i < order.size();) {
             std::size_t j = i;
-            patch.clear();
-            while (j < order.size() && triangle_cells[order[j]] == triangle_cells[order[i]]) patch.push_back(order[j++]);
-            sharpener.try_cell(triangle_cells[order[i]], patch, local);
+            while (j < order.size() && triangle_cells[order[j]] == triangle_cells[order[i]]) ++j;
+            patches[triangle_cells[order[i]]] = {i, j};
+            cells.push_back(triangle_cells[order[i]]);
             i = j;
         }
+        std::vector<uint32_t> patch;
+        auto try_cell = [&](uint64_t cell, bool neighbour) {
+            const auto [begin, end] = patches.at(cell);
+            patch.assign(order.begin() + long(begin), order.begin() + long(end));
+            return sharpener.try_cell(cell, patch, neighbour, local);
+        };
+        std::vector<uint64_t> found;
+        for (uint64_t cell : cells)
+            if (try_cell(cell, false)) found.push_back(cell);
+        // Then outwards along the features: the six neighbours of each feature cell.
+        std::unordered_map<uint64_t, char> tried;
+        for (uint64_t cell : found) tried[cell] = 1;
+        for (std::size_t i = 0; i < found.size(); ++i)
+            for (uint64_t next : sharpener.face_neighbours(found[i]))
+                if (patches.count(next) && !tried[next]++ && try_cell(next, true)) found.push_back(next);
         sharpener.join_all(local);
         sharpener.finish();
     }

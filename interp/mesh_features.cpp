@@ -189,7 +189,8 @@ struct Cell {
 struct Fan {
     uint64_t cell;
     uint32_t vertex;               ///< its index in the final vertex list (before compaction)
-    Vec point, direction;          ///< direction: the patch's mean outward normal
+    Vec point, direction;          ///< direction: one the star is a graph along
+    std::vector<Vec> directions;   ///< the ones to try: the feature's faces' normals, their sums
     std::vector<int> operations;   ///< the R-operations whose edges meet here
     std::vector<std::size_t> triangles;  ///< indices into the new-triangle list
 };
@@ -375,33 +376,49 @@ public:
                                 sub(mesh_.vertices[tri[2]], mesh_.vertices[tri[0]]));
             for (int a = 0; a < 3; ++a) patch_normal[a] += n[a];
         }
-        Vec faces{0, 0, 0};
+        // The faces' outward normals (turned to the patch's side), their sum and the sums of
+        // two: a corner's star can be a graph along one face's normal and not along the mean.
+        std::vector<Vec> normals, directions;
         field_.at(point);
         std::vector<int> chosen;
         if (choose_independent(field_, used, corner ? 3 : 2, chosen))
             for (int e : chosen) {
                 const Vec g = field_.gradient(e);
-                for (int a = 0; a < 3; ++a) faces[a] -= g[a] / norm(g);
+                normals.push_back({-g[0] / norm(g), -g[1] / norm(g), -g[2] / norm(g)});
             }
-        if (dot(faces, patch_normal) < 0)
-            for (double& c : faces) c = -c;
+        Vec faces{0, 0, 0};
+        for (const Vec& n : normals)
+            for (int a = 0; a < 3; ++a) faces[a] += n[a];
+        const double turn = dot(faces, patch_normal) < 0 ? -1 : 1;
+        auto add_direction = [&](Vec d) {
+            const double length = norm(d);
+            if (!(length > 0)) return;
+            for (double& c : d) c *= turn / length;
+            directions.push_back(d);
+        };
+        add_direction(faces);
+        for (std::size_t i = 0; i < normals.size(); ++i) {
+            add_direction(normals[i]);
+            for (std::size_t j = i + 1; normals.size() > 2 && j < normals.size(); ++j)
+                add_direction({normals[i][0] + normals[j][0], normals[i][1] + normals[j][1], normals[i][2] + normals[j][2]});
+        }
+        add_direction({patch_normal[0] * turn, patch_normal[1] * turn, patch_normal[2] * turn});
         const uint32_t apex = uint32_t(positions_.size());
         positions_.push_back(point);
         std::vector<Tri> star;
         for (std::size_t i = 0; i < loop.size(); ++i) star.push_back({apex, loop[i], loop[(i + 1) % loop.size()]});
         Vec direction{0, 0, 0};
         bool graph = false;
-        for (const Vec& d : {faces, patch_normal}) {
-            const double length = norm(d);
-            if (!(length > 0)) continue;
-            direction = {d[0] / length, d[1] / length, d[2] / length};
-            if ((graph = star_is_graph(star, apex, positions_, direction, cell.h))) break;
-        }
+        for (const Vec& d : directions)
+            if ((graph = star_is_graph(star, apex, positions_, d, cell.h))) {
+                direction = d;
+                break;
+            }
         if (!graph) {
             positions_.pop_back();
             return false;
         }
-        Fan fan{id, apex, point, direction, meeting, {}};
+        Fan fan{id, apex, point, direction, std::move(directions), meeting, {}};
         for (const Tri& t : star) {
             fan.triangles.push_back(new_triangles_.size());
             new_triangles_.push_back(t);
@@ -491,8 +508,10 @@ public:
         // Each star a graph along the pair's mean direction or its own.
         auto graph = [&](const Fan& f) {
             const std::vector<Tri> star = star_after(f);
-            for (const Vec& d : {direction, f.direction})
-                if (star_is_graph(star, f.vertex, positions_, d, ca.h)) return true;
+            if (star_is_graph(star, f.vertex, positions_, direction, ca.h)) return true;
+            for (const Fan* g : {&A, &B})
+                for (const Vec& d : g->directions)
+                    if (star_is_graph(star, f.vertex, positions_, d, ca.h)) return true;
             return false;
         };
         if (!graph(A) || !graph(B))

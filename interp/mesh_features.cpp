@@ -219,6 +219,35 @@ bool star_is_graph(const std::vector<Tri>& star, uint32_t apex, const std::vecto
     return std::fabs(turn - 2 * std::numbers::pi) < 1e-6;
 }
 
+/// A direction the star is a graph along, from each of `tries` in turn, moved towards the
+/// unit normal of the triangle that faces it least (a perceptron: it finds one when the
+/// normals leave a cone, as a corner's three faces do when a face lies on a grid plane).
+bool graph_direction(const std::vector<Tri>& star, uint32_t apex, const std::vector<Vec>& at,
+                     const std::vector<Vec>& tries, double h, Vec& found) {
+    std::vector<Vec> normals;
+    for (const Tri& t : star) {
+        const Vec n = cross(sub(at[t[1]], at[t[0]]), sub(at[t[2]], at[t[0]]));
+        const double length = norm(n);
+        if (!(length > 0)) return false;
+        normals.push_back({n[0] / length, n[1] / length, n[2] / length});
+    }
+    for (Vec d : tries)
+        for (int step = 0; step < 32; ++step) {
+            const double length = norm(d);
+            if (!(length > 0)) break;
+            for (double& c : d) c /= length;
+            if (star_is_graph(star, apex, at, d, h)) {
+                found = d;
+                return true;
+            }
+            std::size_t worst = 0;
+            for (std::size_t i = 1; i < normals.size(); ++i)
+                if (dot(normals[i], d) < dot(normals[worst], d)) worst = i;
+            for (int a = 0; a < 3; ++a) d[a] += 0.5 * normals[worst][a];
+        }
+    return false;
+}
+
 Tri rotate_to(const Tri& t, uint32_t first) {
     if (t[1] == first) return {t[1], t[2], t[0]};
     if (t[2] == first) return {t[2], t[0], t[1]};
@@ -409,11 +438,7 @@ public:
         for (std::size_t i = 0; i < loop.size(); ++i) star.push_back({apex, loop[i], loop[(i + 1) % loop.size()]});
         Vec direction{0, 0, 0};
         bool graph = false;
-        for (const Vec& d : directions)
-            if ((graph = star_is_graph(star, apex, positions_, d, cell.h))) {
-                direction = d;
-                break;
-            }
+        graph = graph_direction(star, apex, positions_, directions, cell.h, direction);
         if (!graph) {
             positions_.pop_back();
             return false;
@@ -508,11 +533,10 @@ public:
         // Each star a graph along the pair's mean direction or its own.
         auto graph = [&](const Fan& f) {
             const std::vector<Tri> star = star_after(f);
-            if (star_is_graph(star, f.vertex, positions_, direction, ca.h)) return true;
-            for (const Fan* g : {&A, &B})
-                for (const Vec& d : g->directions)
-                    if (star_is_graph(star, f.vertex, positions_, d, ca.h)) return true;
-            return false;
+            std::vector<Vec> tries{direction};
+            for (const Fan* g : {&A, &B}) tries.insert(tries.end(), g->directions.begin(), g->directions.end());
+            Vec unused;
+            return graph_direction(star, f.vertex, positions_, tries, ca.h, unused);
         };
         if (!graph(A) || !graph(B))
             return false;

@@ -91,7 +91,12 @@ TEST_CASE("a box's corners are mesh vertices and its edges mesh edges, to round-
         std::string text, rsystem;
     } cases[] = {{"R0", "ARGUMENT X, Y, Z\nRETURN (0.64 - X*X) & (0.36 - Y*Y) & (0.2025 - Z*Z)\n", "r0"},
                  {"alpha=0.5", "ARGUMENT X, Y, Z\nRETURN (0.64 - X*X) & (0.36 - Y*Y) & (0.2025 - Z*Z)\n", "alpha=0.5"},
-                 {"MIN", "ARGUMENT X, Y, Z\nRETURN MIN(MIN(0.64 - X*X, 0.36 - Y*Y), 0.2025 - Z*Z)\n", ""}};
+                 {"MIN", "ARGUMENT X, Y, Z\nRETURN MIN(MIN(0.64 - X*X, 0.36 - Y*Y), 0.2025 - Z*Z)\n", ""},
+                 // R0 spelt out, as RANOK scripts often write it.
+                 {"R0 written out",
+                  "ARGUMENT X, Y, Z\nVARIABLE A = 0.64 - X*X;\nVARIABLE B = 0.36 - Y*Y;\nVARIABLE C = 0.2025 - Z*Z;\n"
+                  "VARIABLE W = A + B - SQRT(A*A + B*B);\nRETURN W + C - SQRT(W*W + C*C);\n",
+                  ""}};
     for (const auto& c : cases) {
         CAPTURE(c.name);
         const Model m = model_of(c.text, c.rsystem);

@@ -20,8 +20,9 @@
 // the edge with the exact gradient (dual numbers), safeguarded by bisection; its normal is the
 // exact gradient at the last iterate (within 1e-7 of an edge of it). Dual contouring places
 // vertices inside cells and so can sit on sharp corners, but its manifold and
-// intersection-free variants need repair passes and extra vertices; we chose the guarantees
-// (README "Meshes" says what that costs at sharp edges: they are cut by up to a cell).
+// intersection-free variants need repair passes and extra vertices; we chose the guarantees,
+// then put the sharp edges and corners back cell by cell with a pass that keeps them
+// (mesh_features.hpp: Newton's method on the R-operations' operands, fans and flips).
 //
 // Only cells the surface can cross are evaluated: an octree over leaves of 8³ cells, each box
 // tested with interval arithmetic (interval.hpp) and its tape shortened for the box

@@ -4,6 +4,7 @@
 
 #include "interp/box_simplify.hpp"
 #include "interp/interval.hpp"
+#include "interp/mesh_features.hpp"
 #include "interp/lane_kernel.hpp"
 #include "interp/parallel.hpp"
 #include "interp/tape.hpp"
@@ -106,6 +107,7 @@ struct LeafMesh {
     std::vector<uint16_t> edges;                 ///< owned crossing edges, increasing ids
     std::vector<Vec> positions, normals;         ///< per owned edge
     std::vector<std::array<EdgeRef, 3>> triangles;
+    std::vector<uint16_t> triangle_cells;        ///< per triangle, its cell: x + 8y + 64z in the leaf
 };
 
 struct Lattice {
@@ -293,6 +295,7 @@ public:
                             std::array<EdgeRef, 3> tri{};
                             for (int v = 0; v < 3; ++v) tri[v] = edge_ref(x, y, z, cases.tri[k][v]);
                             m.triangles.push_back(tri);
+                            m.triangle_cells.push_back(uint16_t(x + kLeafCells * (y + kLeafCells * z)));
                         }
                     }
                 }
@@ -388,8 +391,9 @@ private:
     Lattice l_;
 };
 
-/// Joins the leaves' vertices (each owned by one leaf) and triangles into one indexed mesh.
-Mesh weld(std::vector<LeafMesh>& leaves, const Lattice& l) {
+/// Joins the leaves' vertices (each owned by one leaf) and triangles into one indexed mesh;
+/// `triangle_cells` gets each triangle's cell, x + cells_x·(y + cells_y·z).
+Mesh weld(std::vector<LeafMesh>& leaves, const Lattice& l, std::vector<uint64_t>& triangle_cells) {
     std::sort(leaves.begin(), leaves.end(), [](const LeafMesh& a, const LeafMesh& b) {
         return std::tie(a.leaf[2], a.leaf[1], a.leaf[0]) < std::tie(b.leaf[2], b.leaf[1], b.leaf[0]);
     });
@@ -408,6 +412,7 @@ Mesh weld(std::vector<LeafMesh>& leaves, const Lattice& l) {
     mesh.vertices.reserve(base.back());
     mesh.normals.reserve(base.back());
     mesh.triangles.reserve(triangle_count);
+    triangle_cells.reserve(triangle_count);
     for (LeafMesh& m : leaves) {
         mesh.vertices.insert(mesh.vertices.end(), m.positions.begin(), m.positions.end());
         mesh.normals.insert(mesh.normals.end(), m.normals.begin(), m.normals.end());
@@ -432,6 +437,12 @@ Mesh weld(std::vector<LeafMesh>& leaves, const Lattice& l) {
                 out[v] = base[at] + uint32_t(it - edges.begin());
             }
             mesh.triangles.push_back(out);
+        }
+        for (uint16_t local : m.triangle_cells) {
+            const uint64_t x = uint64_t(m.leaf[0]) * kLeafCells + local % kLeafCells,
+                           y = uint64_t(m.leaf[1]) * kLeafCells + local / kLeafCells % kLeafCells,
+                           z = uint64_t(m.leaf[2]) * kLeafCells + local / (kLeafCells * kLeafCells);
+            triangle_cells.push_back(x + uint64_t(l.cells[0]) * (y + uint64_t(l.cells[1]) * z));
         }
     }
     // Normals where the gradient is not defined (caps on the domain's border, corners of
@@ -513,8 +524,12 @@ Mesh extract_mesh(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
         total.crossing_edges += w.stats.crossing_edges;
     }
     workers.clear();
+    std::vector<uint64_t> triangle_cells;
+    Mesh mesh = weld(leaves, l, triangle_cells);
+    leaves.clear();
+    sharpen_features(graph, root, grid, mesh, triangle_cells, &total.features);
     if (stats) *stats = total;
-    return weld(leaves, l);
+    return mesh;
 }
 
 }  // namespace fortu

@@ -20,8 +20,9 @@
 // the edge with the exact gradient (dual numbers), safeguarded by bisection; its normal is the
 // exact gradient at the last iterate (within 1e-7 of an edge of it). Dual contouring places
 // vertices inside cells and so can sit on sharp corners, but its manifold and
-// intersection-free variants need repair passes and extra vertices; we chose the guarantees
-// (README "Meshes" says what that costs at sharp edges: they are cut by up to a cell).
+// intersection-free variants need repair passes and extra vertices; we chose the guarantees,
+// then put the sharp edges and corners back cell by cell with a pass that keeps them
+// (mesh_features.hpp: Newton's method on the R-operations' operands, fans and flips).
 //
 // Only cells the surface can cross are evaluated: an octree over leaves of 8³ cells, each box
 // tested with interval arithmetic (interval.hpp) and its tape shortened for the box
@@ -32,6 +33,7 @@
 
 #include "interp/engine.hpp"
 #include "interp/ir/ir.hpp"
+#include "interp/mesh_features.hpp"
 #include "runtime/grid.hpp"
 #include "runtime/mesh.hpp"
 
@@ -45,7 +47,8 @@ struct MeshStats {
     std::size_t leaves = 0;           ///< leaves of 8³ cells whose nodes were evaluated
     std::size_t node_evaluations = 0; ///< grid nodes evaluated (on shortened tapes)
     std::size_t edge_evaluations = 0; ///< Newton/bisection steps on crossing edges, summed
-    std::size_t crossing_edges = 0;   ///< = vertices
+    std::size_t crossing_edges = 0;   ///< marching-tetrahedra vertices
+    FeatureStats features;            ///< the sharp features put back (mesh_features.hpp)
 };
 
 /// The closed mesh of `root`'s zero surface on `grid` (3D, at least 2 nodes per axis; its

@@ -229,6 +229,10 @@ BenchCell new_cell(const std::string& name, const Model& model, const Grid& grid
 
 }  // namespace
 
+BenchCell plan_cell(const std::string& name, const Model& model, const Grid& grid, const Engine& engine) {
+    return new_cell(name, model, grid, engine);
+}
+
 std::vector<BenchCell> measure_interleaved(const std::vector<SeriesEntry>& entries, const Engine& engine,
                                            const MeasureOptions& options) {
     std::vector<BenchCell> cells;

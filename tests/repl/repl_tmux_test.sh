@@ -1,7 +1,7 @@
 #!/bin/sh
 # tests/repl/repl_tmux_test.sh FORTU — drives `fortu repl` in a tmux pane (send-keys, then
 # capture-pane) and checks what a user sees: the half-block picture of a disc, a syntax error
-# with its caret, Ctrl-C stopping a long evaluation (not the REPL) and dropping a half-typed
+# with its caret, Tab completion, Ctrl-C stopping a long evaluation (not the REPL) and dropping a half-typed
 # line, Ctrl-D quitting, the history file. Exit 0 only if every check passed. Every step waits
 # for what the session shows (or, for a running evaluation, for the CPU time it has used), never
 # for a fixed time, so the test passes on a loaded machine too.
@@ -101,6 +101,17 @@ if wait_for 'warm inside, blue outside, black contour'; then
 else
     fail ":show drew nothing"
 fi
+
+# Tab completes a command, a built-in function, an engine; Ctrl-C drops each line.
+$T send-keys -t repl ':ren' Tab
+wait_for '^fortu> :render ?$' && pass "Tab completes :ren to :render" || fail "Tab did not complete :ren"
+$T send-keys -t repl C-c
+$T send-keys -t repl 'VARIABLE DISC = 0.6 - SQ' Tab
+wait_for '^fortu> VARIABLE DISC = 0\.6 - SQRT ?$' && pass "Tab completes SQ to SQRT" || fail "Tab did not complete SQ"
+$T send-keys -t repl C-c
+$T send-keys -t repl ':engine vo' Tab
+wait_for '^fortu> :engine voxel ?$' && pass "Tab completes an engine" || fail "Tab did not complete the engine"
+$T send-keys -t repl C-c
 
 # Ctrl-C stops a long evaluation, not the REPL; no half-written file is left.
 $T send-keys -t repl 'VARIABLE D = 0' Enter 'FOR I = 1, 2000' Enter \

@@ -102,7 +102,7 @@ else
     fail ":show drew nothing"
 fi
 
-# Tab completes a command, a built-in function, an engine; Ctrl-C drops each line.
+# Tab completes a command, a built-in function, an engine, a file name; Ctrl-C drops each line.
 $T send-keys -t repl ':ren' Tab
 wait_for '^fortu> :render ?$' && pass "Tab completes :ren to :render" || fail "Tab did not complete :ren"
 $T send-keys -t repl C-c
@@ -112,12 +112,15 @@ $T send-keys -t repl C-c
 $T send-keys -t repl ':engine vo' Tab
 wait_for '^fortu> :engine voxel ?$' && pass "Tab completes an engine" || fail "Tab did not complete the engine"
 $T send-keys -t repl C-c
+$T send-keys -t repl ':load laun' Tab
+wait_for '^fortu> :load launch\.sh ?$' && pass "Tab completes a file name after :load" || fail "Tab did not complete the file"
+$T send-keys -t repl C-c
 
 # Ctrl-C stops a long evaluation, not the REPL; no half-written file is left.
 $T send-keys -t repl 'VARIABLE D = 0' Enter 'FOR I = 1, 2000' Enter \
     'D = D | (0.01 - SQRT((X - I/1000)^2 + Y^2))' Enter 'END FOR' Enter 'RETURN D' Enter \
     ':size 2000' Enter
-wait_for_prompt_after ':size 2000' || fail "the long model was not set up"
+wait_for '^size: 2000x2000$' || fail "the long model was not set up"
 before=$(cpu_ticks)
 $T send-keys -t repl ':render big.npy' Enter
 wait_for_cpu 20 "$before" || fail "the evaluation did not start"

@@ -177,7 +177,7 @@ Plot bench_plot(const std::vector<BenchCell>& cells) {
 /// A cell is announced (its estimate on stderr when stdout is not a terminal) from this long on.
 constexpr double kAnnounceSeconds = 5.0;
 /// Classic cells under this many operations take well under a second: no calibration run for them.
-constexpr double kEstimateFromOperations = 1e8;
+constexpr double kEstimateFromOperations = 3e7;
 
 /// What `cell` will take in all, its repeats stopping at the cap as measure_cell's do; < 0
 /// when unknown. Classic: its operations at the measured (or calibrated) classic rate; others:
@@ -231,7 +231,7 @@ int run_models(const BenchArgs& b) {
             const Grid grid = bench_grid(models[i].model, size);
             if (double(grid.points()) > double(kMaxGridPoints))
                 throw UsageError(fmt::format("--sizes: {} is {} points, more than the {} fortu allocates",
-                                             grid_size_text(grid), format_count(grid.points()), format_count(kMaxGridPoints)));
+                                             grid_text(grid), format_count(grid.points()), format_count(kMaxGridPoints)));
             for (const Engine* engine : b.engines) {
                 BenchCell cell = plan_cell(models[i].path, models[i].model, grid, *engine);
                 cell.label = labels[i];
@@ -252,7 +252,7 @@ int run_models(const BenchArgs& b) {
         // Before each cell: on a terminal a progress line the row then replaces; otherwise the
         // rows stay plain (for files and pipes) and only a long cell is announced, on stderr.
         const double expected = planned_seconds(cell, b.measure, rate, cells);
-        const std::string what = fmt::format("{} {} {}", cell.engine->name(), grid_size_text(cell.grid), cell.label);
+        const std::string what = fmt::format("{} {} {}", cell.engine->name(), grid_text(cell.grid), cell.label);
         const std::string about = expected >= 1 ? fmt::format(": about {}", estimate_text(expected)) : "";
         if (columns > 0) {
             std::string progress = fmt::format("timing {}{}...", what, about);

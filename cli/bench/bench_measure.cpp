@@ -133,11 +133,6 @@ Grid bench_grid(const Model& model, int nodes) {
     return grid;
 }
 
-std::string grid_size_text(const Grid& g) {
-    return g.dims == 3 ? fmt::format("{}x{}x{}", g.cols(), g.rows(), g.slices())
-                       : fmt::format("{}x{}", g.cols(), g.rows());
-}
-
 double median_of(std::vector<double> v) {
     if (v.empty()) return 0;
     std::sort(v.begin(), v.end());

@@ -5,6 +5,7 @@
 // so a table never silently drops the slow side of a comparison.
 #pragma once
 
+#include "cli/model_setup.hpp"
 #include "interp/engine.hpp"
 #include "interp/model.hpp"
 #include "runtime/grid.hpp"
@@ -34,9 +35,6 @@ std::string floz_steps_text(int steps);
 
 /// The model's domain sampled with `nodes` nodes per axis (N×N, or N×N×N for 3 arguments).
 Grid bench_grid(const Model& model, int nodes);
-
-/// "800x800" or "64x64x64".
-std::string grid_size_text(const Grid& grid);
 
 struct MeasureOptions {
     int repeat = 3;               ///< timed runs per cell (at least one)

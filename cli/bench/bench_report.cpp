@@ -40,7 +40,7 @@ std::string right(const std::string& s, std::size_t width) {
 const BenchCell* find_cell(const std::vector<BenchCell>& cells, const std::string& model, const std::string& size,
                            const Engine& engine) {
     for (const BenchCell& c : cells)
-        if (c.model == model && grid_size_text(c.grid) == size && c.engine == &engine) return &c;
+        if (c.model == model && grid_text(c.grid) == size && c.engine == &engine) return &c;
     return nullptr;
 }
 
@@ -101,7 +101,7 @@ std::vector<BenchRatio> bench_ratios(const std::vector<BenchCell>& cells) {
     std::vector<BenchRatio> ratios;
     for (const BenchCell& c : cells) {
         if (!c.engine->capabilities().expanded_tree_cost) continue;
-        const std::string size = grid_size_text(c.grid);
+        const std::string size = grid_text(c.grid);
         const BenchCell* v = find_cell(cells, c.model, size, engine_named("voxel"));
         if (!v || v->skipped || v->median <= 0) continue;
         if (c.skipped && c.estimated_seconds < 0) continue;
@@ -150,7 +150,7 @@ BenchTableLayout bench_table_layout(const std::vector<BenchCell>& planned, bool 
     for (const BenchCell& c : planned) {
         l.model = std::max(l.model, columns(c.shown_name()));
         l.engine = std::max(l.engine, c.engine->name().size());
-        l.size = std::max(l.size, grid_size_text(c.grid).size());
+        l.size = std::max(l.size, grid_text(c.grid).size());
         l.points = std::max(l.points, format_count(c.points()).size());
     }
     return l;
@@ -167,7 +167,7 @@ std::string bench_table_header(const BenchTableLayout& l) {
 
 std::string bench_table_row(const BenchTableLayout& l, const BenchCell& c) {
     std::string out = pad(c.shown_name(), l.model) + "  " + pad(std::string(c.engine->name()), l.engine) + "  " +
-                      pad(grid_size_text(c.grid), l.size) + "  " + right(format_count(c.points()), l.points) + "  ";
+                      pad(grid_text(c.grid), l.size) + "  " + right(format_count(c.points()), l.points) + "  ";
     if (c.skipped)
         return out + fmt::format("skipped: {}; estimated {} ({} operations per point)\n", c.skip_reason,
                                  duration_text(c.estimated_seconds), format_operations(c.operations_per_point));

@@ -374,10 +374,11 @@ void Repl::show(const std::vector<std::string>& args) {
                 return error(fmt::format(":show: --slice {} is outside 0..{}", *slice.index, cube.slices() - 1));
             slice = SliceChoice{2, std::nullopt, cube.z_at(*slice.index)};
         }
+        // The plane's picture: across, X (Y for an x plane); up, Y for a z plane, else Z.
         const Grid plane = plane_grid(slice, {});
-        const Field shape = plane_picture(Field{plane, {}});
-        const Grid& p = shape.grid;
-        const auto [w, h] = fit_aspect(p.x.max - p.x.min, p.y.max - p.y.min, max_w, max_h);
+        const Axis& across = slice.axis == 0 ? plane.y : plane.x;
+        const Axis& up = slice.axis == 2 ? plane.y : plane.z;
+        const auto [w, h] = fit_aspect(across.max - across.min, up.max - up.min, max_w, max_h);
         grid = plane_grid(slice, {w, h});
     } else {
         const Grid domain = session_.grid();

@@ -70,6 +70,7 @@ wait_for_cpu() {
 
 mkdir -p "$WORK/home"
 cd "$WORK" || exit 1
+echo 'VARIABLE RING = 0.6 - SQRT(X^2 + Y^2)' > "$WORK/ring_model.fortu"   # for :load's completion
 # The launcher records fortu's process id (exec keeps it) for wait_for_cpu.
 cat > "$WORK/launch.sh" <<EOF
 echo \$\$ > '$WORK/fortu.pid'
@@ -102,19 +103,21 @@ else
     fail ":show drew nothing"
 fi
 
-# Tab completes a command, a built-in function, an engine, a file name; Ctrl-C drops each line.
+# Tab completes a command, a built-in function, an engine, a file name. Each line is then
+# finished with Enter (keys stay in order; a Ctrl-C would race with the typing).
 $T send-keys -t repl ':ren' Tab
 wait_for '^fortu> :render ?$' && pass "Tab completes :ren to :render" || fail "Tab did not complete :ren"
-$T send-keys -t repl C-c
+$T send-keys -t repl Enter
+wait_for '^fortu: error: :render needs a file name$' || fail ":render without a file"
 $T send-keys -t repl 'VARIABLE DISC = 0.6 - SQ' Tab
 wait_for '^fortu> VARIABLE DISC = 0\.6 - SQRT ?$' && pass "Tab completes SQ to SQRT" || fail "Tab did not complete SQ"
-$T send-keys -t repl C-c
-$T send-keys -t repl ':engine vo' Tab
+$T send-keys -t repl '(X^2 + Y^2)' Enter ':engine vo' Tab
 wait_for '^fortu> :engine voxel ?$' && pass "Tab completes an engine" || fail "Tab did not complete the engine"
-$T send-keys -t repl C-c
-$T send-keys -t repl ':load laun' Tab
-wait_for '^fortu> :load launch\.sh ?$' && pass "Tab completes a file name after :load" || fail "Tab did not complete the file"
-$T send-keys -t repl C-c
+$T send-keys -t repl Enter ':load ring_m' Tab
+wait_for '^fortu> :load ring_model\.fortu ?$' && pass "Tab completes a file name after :load" \
+    || fail "Tab did not complete the file"
+$T send-keys -t repl Enter
+wait_for '^loaded ring_model\.fortu \(1 statement\)$' || fail "the completed file was not loaded"
 
 # Ctrl-C stops a long evaluation, not the REPL; no half-written file is left.
 $T send-keys -t repl 'VARIABLE D = 0' Enter 'FOR I = 1, 2000' Enter \

@@ -395,3 +395,19 @@ TEST_CASE("bench durations: three significant digits in the unit that suits each
     CHECK(fortu::model_labels({"/a/x/s1.fortu", "/a/y/s1.fortu", "b/tor.vm"}) ==
           std::vector<std::string>{"/a/x/s1.fortu", "/a/y/s1.fortu", "tor"});
 }
+
+TEST_CASE("fortu bench on a terminal: the header at once, a progress line per cell that its row replaces") {
+    TempDir t;
+    const std::string m = t.write("and.fortu", kAnd);
+    // script(1) gives fortu a pseudo-terminal; its output is what the terminal received.
+    const auto r = fortu::test::run_shell("script -qec " +
+                                          quote(quote(FORTU_BINARY) + " bench " + quote(m) + " --sizes 8 --repeat 1") +
+                                          " /dev/null");
+    REQUIRE(r.status == 0);
+    const auto lines = lines_of(r.out);
+    REQUIRE(lines.size() == 4);
+    CHECK(lines[0].starts_with("model  engine   size  points  runs"));
+    CHECK(lines[1].starts_with("timing classic 8x8 and...\r\x1b[Kand    classic  8x8       64     1  "));
+    CHECK(lines[2].starts_with("timing voxel 8x8 and...\r\x1b[Kand    voxel    8x8       64     1  "));
+    CHECK(lines[3].starts_with("ratio classic/voxel, and 8x8: "));
+}

@@ -377,6 +377,10 @@ TEST_CASE(":show and :render of a 3D model: a plane with --slice, a shaded view 
     CHECK(plane_lines[22] == "x [-1, 1], y [-1, 1], z = 0; # inside, . outside, * contour");
     CHECK(plane_lines[0] == std::string(44, '.'));
     CHECK(plane_lines[11].find('#') != std::string::npos);
+    const auto side = lines_of(d.repl("ARGUMENT X, Y, Z\nRETURN 0.5 - SQRT(X^2 + Y^2 + Z^2)\n:show --slice y=0\n").out);
+    REQUIRE(side.size() == 23);
+    CHECK(side[22] == "x [-1, 1], y = 0, z [-1, 1]; # inside, . outside, * contour");
+    CHECK(side[11] == plane_lines[11]);   // the same disc, across X and up Z
     const auto ball = d.repl("ARGUMENT X, Y, Z\nRETURN 0.5 - SQRT(X^2 + Y^2 + Z^2)\n:show --view front\n:show\n");
     const auto ball_lines = lines_of(ball.out);
     REQUIRE(ball_lines.size() == 46);

@@ -4,6 +4,7 @@
 
 #include "grammar/ast.hpp"
 #include "grammar/parse.hpp"
+#include "interp/grid_size.hpp"
 #include "interp/lower.hpp"
 
 #include <algorithm>
@@ -355,7 +356,7 @@ void Session::set_rsystem(std::optional<RSystem> rsystem) {
 }
 
 Grid Session::grid() const {
-    if (model_) return model_grid(*model_, grid_nodes(*model_, size_), domain_);
+    if (model_) return sized_grid(*model_, size_, domain_);
     // No model yet: the 2D grid a two-argument model would get.
     Grid grid;
     Axis* axes[2] = {&grid.x, &grid.y};
@@ -366,6 +367,18 @@ Grid Session::grid() const {
         axes[a]->nodes = size_.empty() ? 256 : size_[std::min<std::size_t>(a, size_.size() - 1)];
     }
     return grid;
+}
+
+std::vector<std::string> Session::names() const {
+    std::vector<std::string> out;
+    auto add = [&out](const std::string& name) {
+        if (!name.empty() && std::find(out.begin(), out.end(), name) == out.end()) out.push_back(name);
+    };
+    if (model_)
+        for (const std::string& a : model_->arguments) add(a);
+    for (const Entry& e : entries_)
+        if (e.kind == Entry::Kind::Definition || e.kind == Entry::Kind::Function) add(e.name);
+    return out;
 }
 
 Grid Session::grid_with_nodes(int cols, int rows) const {

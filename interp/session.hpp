@@ -83,11 +83,16 @@ public:
     const std::optional<RSystem>& rsystem() const { return rsystem_; }
     /// `:domain`: per axis overrides of the script's ranges (nullopt: the script's).
     void set_domain(std::array<std::optional<AxisRange>, 3> domain) { domain_ = domain; }
+    const std::array<std::optional<AxisRange>, 3>& domain() const { return domain_; }
     /// `:size`: node counts per axis (empty: the script's RECTBMP, else 256² / 64³).
     void set_size(std::vector<int> size) { size_ = std::move(size); }
     const std::vector<int>& size() const { return size_; }
 
-    /// The grid `fortu run` would sample the saved script on (domain and size applied).
+    /// The names the session defines (arguments, definitions, FUNCTIONs), in order, unique.
+    std::vector<std::string> names() const;
+
+    /// The grid `fortu run` would sample the saved script on (domain and size applied; one
+    /// size number is the nodes along the longest axis, with square cells, grid_size.hpp).
     Grid grid() const;
     /// A grid over the same domain with `cols`×`rows` nodes (3D: the middle Z slice only).
     Grid grid_with_nodes(int cols, int rows) const;

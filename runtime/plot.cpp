@@ -12,8 +12,11 @@
 namespace fortu {
 namespace {
 
-constexpr double kWidth = 760, kHeight = 480;
-constexpr double kLeft = 80, kRight = 230, kTop = 40, kBottom = 60;
+constexpr double kPlotWidth = 450, kMinPlotHeight = 380;
+constexpr double kLeft = 80, kMinRight = 230, kTop = 40, kBottom = 60;
+/// The legend: its sample line and gap (54 px), an upper bound on a character's width in the
+/// 12 px sans-serif font (so a name is never cut at the picture's edge), and a line's height.
+constexpr double kLegendLead = 54, kLegendCharWidth = 7.5, kLegendLine = 20;
 constexpr const char* kColours[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b",
                                     "#e377c2", "#7f7f7f"};
 
@@ -101,11 +104,23 @@ std::string tick_text(double v) {
     return fmt::format("{:g}", v);
 }
 
+/// Displayed characters (UTF-8 continuation bytes take no width).
+std::size_t shown_characters(const std::string& s) {
+    std::size_t n = 0;
+    for (unsigned char c : s) n += (c & 0xC0) != 0x80;
+    return n;
+}
+
 }  // namespace
 
 std::string render_plot_svg(const Plot& plot) {
     const Scale sx = make_scale(plot, true), sy = make_scale(plot, false);
-    const double pw = kWidth - kLeft - kRight, ph = kHeight - kTop - kBottom;
+    // The picture grows to hold the legend: as wide as its longest name, as tall as its lines.
+    std::size_t longest = 0;
+    for (const PlotSeries& s : plot.series) longest = std::max(longest, shown_characters(s.name));
+    const double right = std::max(kMinRight, std::ceil(kLegendLead + kLegendCharWidth * double(longest) + 12));
+    const double pw = kPlotWidth, ph = std::max(kMinPlotHeight, kLegendLine * double(plot.series.size()) + 10);
+    const double width = kLeft + pw + right, height = kTop + ph + kBottom;
     auto px = [&](double x) { return kLeft + sx.to_unit(x) * pw; };
     auto py = [&](double y) { return kTop + (1 - sy.to_unit(y)) * ph; };
 
@@ -115,7 +130,7 @@ std::string render_plot_svg(const Plot& plot) {
         "font-family=\"sans-serif\" font-size=\"12\">\n"
         "<rect width=\"{0}\" height=\"{1}\" fill=\"white\"/>\n"
         "<text x=\"{2}\" y=\"24\" text-anchor=\"middle\" font-size=\"15\">{3}</text>\n",
-        kWidth, kHeight, kLeft + pw / 2, xml_escape(plot.title));
+        width, height, kLeft + pw / 2, xml_escape(plot.title));
     // Grid lines and tick labels.
     for (double t : sx.ticks) {
         const double x = px(t);
@@ -132,7 +147,7 @@ std::string render_plot_svg(const Plot& plot) {
     svg += fmt::format("<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"none\" stroke=\"black\"/>\n",
                        kLeft, kTop, pw, ph);
     svg += fmt::format("<text class=\"x-label\" x=\"{}\" y=\"{}\" text-anchor=\"middle\">{}{}</text>\n",
-                       kLeft + pw / 2, kHeight - 18, xml_escape(plot.x_label), plot.log_x ? " (log scale)" : "");
+                       kLeft + pw / 2, height - 18, xml_escape(plot.x_label), plot.log_x ? " (log scale)" : "");
     svg += fmt::format("<text class=\"y-label\" x=\"{0}\" y=\"{1}\" text-anchor=\"middle\" "
                        "transform=\"rotate(-90 {0} {1})\">{2}{3}</text>\n",
                        22, kTop + ph / 2, xml_escape(plot.y_label), plot.log_y ? " (log scale)" : "");
@@ -154,7 +169,7 @@ std::string render_plot_svg(const Plot& plot) {
             svg += fmt::format("<polyline fill=\"none\" stroke=\"{}\" stroke-width=\"2\"{} points=\"{}\"/>\n", colour,
                                s.dashed ? " stroke-dasharray=\"6 4\"" : "", points);
         svg += markers + "</g>\n";
-        const double ly = kTop + 10 + 20 * double(i);
+        const double ly = kTop + 10 + kLegendLine * double(i);
         svg += fmt::format("<line x1=\"{0}\" y1=\"{1}\" x2=\"{2}\" y2=\"{1}\" stroke=\"{3}\" stroke-width=\"2\"{4}/>\n"
                            "<text class=\"legend\" x=\"{5}\" y=\"{6}\">{7}</text>\n",
                            kLeft + pw + 12, ly, kLeft + pw + 36, colour, s.dashed ? " stroke-dasharray=\"6 4\"" : "",

@@ -5,6 +5,7 @@
 
 #include "runtime/field.hpp"
 #include "runtime/output_options.hpp"
+#include "runtime/surface_picture.hpp"
 
 #include <string>
 
@@ -20,5 +21,12 @@ inline constexpr char kAsciiInside = '#', kAsciiOutside = '.', kAsciiContour = '
 /// contour if either pixel is on it, else invalid if either is invalid, else inside if the
 /// upper pixel's value is ≥ 0. Every line ends in '\n'.
 std::string terminal_picture(const Field& field, int slice, bool colour, const OutputOptions& options = {});
+
+/// Characters of the ASCII shaded view: the solid's surface, a face cut by the domain, nothing.
+inline constexpr char kAsciiSurface = '#', kAsciiCut = '+', kAsciiEmpty = '.';
+
+/// A shaded view of a solid (shade_surface's colours) drawn as terminal_picture draws a slice:
+/// half blocks in colour; in ASCII a cell shows the upper pixel's hit (surface, cut, nothing).
+std::string terminal_surface_picture(const SurfaceImage& image, bool colour);
 
 }  // namespace fortu

@@ -19,6 +19,8 @@
 #include <cmath>
 #include <fmt/format.h>
 #include <iostream>
+#include <sys/ioctl.h>
+#include <unistd.h>
 
 namespace fortu {
 namespace {
@@ -154,7 +156,8 @@ std::optional<BenchArgs> parse_bench_args(const std::vector<std::string>& args) 
     return b;
 }
 
-/// One plot of the MODEL mode: median time against points, a series per model and engine.
+/// One plot of the MODEL mode: median time against points, a series per model and engine,
+/// named by the model's short name so the legend tells the lines apart.
 Plot bench_plot(const std::vector<BenchCell>& cells) {
     Plot plot;
     plot.title = "fortu bench: time against grid size";
@@ -163,7 +166,7 @@ Plot bench_plot(const std::vector<BenchCell>& cells) {
     plot.log_x = plot.log_y = true;
     for (const BenchCell& c : cells) {
         if (c.skipped) continue;
-        const std::string name = fmt::format("{} ({})", c.model, c.engine->name());
+        const std::string name = fmt::format("{} ({})", c.shown_name(), c.engine->name());
         auto it = std::find_if(plot.series.begin(), plot.series.end(), [&](const PlotSeries& s) { return s.name == name; });
         if (it == plot.series.end()) it = plot.series.insert(plot.series.end(), PlotSeries{name});
         it->points.emplace_back(double(c.points()), c.median);
@@ -171,23 +174,100 @@ Plot bench_plot(const std::vector<BenchCell>& cells) {
     return plot;
 }
 
+/// A cell is announced (its estimate on stderr when stdout is not a terminal) from this long on.
+constexpr double kAnnounceSeconds = 5.0;
+/// Classic cells under this many operations take well under a second: no calibration run for them.
+constexpr double kEstimateFromOperations = 3e7;
+
+/// What `cell` will take in all, its repeats stopping at the cap as measure_cell's do; < 0
+/// when unknown. Classic: its operations at the measured (or calibrated) classic rate; others:
+/// the last measured cell of the same model and engine, scaled by the points.
+double planned_seconds(const BenchCell& cell, const MeasureOptions& o, ClassicRate& rate,
+                       const std::vector<BenchCell>& done) {
+    double one = -1;
+    if (cell.engine->capabilities().expanded_tree_cost) {
+        const double operations = cell.total_operations();
+        if (operations > o.budget || operations < kEstimateFromOperations) return -1;
+        const double per_operation = rate.seconds_per_operation(o.threads);
+        if (per_operation > 0) one = per_operation * operations;
+    } else {
+        for (const BenchCell& c : done)
+            if (c.model == cell.model && c.engine == cell.engine && !c.skipped && c.median > 0 && c.points())
+                one = c.median * double(cell.points()) / double(c.points());
+    }
+    if (one <= 0) return -1;
+    const double runs = std::min(double(std::max(1, o.repeat)), std::max(1.0, std::ceil(o.repeat_cap / one)));
+    return one * runs;
+}
+
+/// The terminal's width in columns, or 0 when stdout is not a terminal.
+int terminal_columns() {
+    if (!isatty(STDOUT_FILENO)) return 0;
+    winsize ws{};
+    return ioctl(STDOUT_FILENO, TIOCGWINSZ, &ws) == 0 && ws.ws_col > 0 ? ws.ws_col : 80;
+}
+
 int run_models(const BenchArgs& b) {
-    std::vector<BenchCell> cells;
-    ClassicRate rate;
+    // Every model loaded and every grid checked first: errors come before any timing, and the
+    // table's columns are known before its header is printed.
+    struct Loaded {
+        std::string path, label;
+        Model model;
+    };
+    std::vector<Loaded> models;
     int status = 0;
     for (const std::string& path : b.models) {
         std::optional<Model> model = load_bench_model(path);
         if (!model) { status = 1; continue; }
+        models.push_back({path, "", std::move(*model)});
+    }
+    std::vector<std::string> paths;
+    for (const Loaded& m : models) paths.push_back(m.path);
+    const std::vector<std::string> labels = model_labels(paths);
+    std::vector<std::pair<const Loaded*, BenchCell>> planned;
+    for (std::size_t i = 0; i < models.size(); ++i) {
+        models[i].label = labels[i];
         for (int size : b.sizes) {
-            const Grid grid = bench_grid(*model, size);
+            const Grid grid = bench_grid(models[i].model, size);
             if (double(grid.points()) > double(kMaxGridPoints))
                 throw UsageError(fmt::format("--sizes: {} is {} points, more than the {} fortu allocates",
-                                             grid_size_text(grid), format_count(grid.points()), format_count(kMaxGridPoints)));
-            for (const Engine* engine : b.engines) cells.push_back(measure_cell(path, *model, grid, *engine, b.measure, rate));
+                                             grid_text(grid), format_count(grid.points()), format_count(kMaxGridPoints)));
+            for (const Engine* engine : b.engines) {
+                BenchCell cell = plan_cell(models[i].path, models[i].model, grid, *engine);
+                cell.label = labels[i];
+                planned.emplace_back(&models[i], std::move(cell));
+            }
         }
     }
-    if (cells.empty()) return status;
-    std::cout << bench_table(cells) << ratio_text(bench_ratios(cells));
+    if (planned.empty()) return status;
+
+    std::vector<BenchCell> plan;
+    for (const auto& p : planned) plan.push_back(p.second);
+    const BenchTableLayout layout = bench_table_layout(plan, b.measure.mimages);
+    const int columns = terminal_columns();
+    std::cout << bench_table_header(layout) << std::flush;
+    std::vector<BenchCell> cells;
+    ClassicRate rate;
+    for (const auto& [loaded, cell] : planned) {
+        // Before each cell: on a terminal a progress line the row then replaces; otherwise the
+        // rows stay plain (for files and pipes) and only a long cell is announced, on stderr.
+        const double expected = planned_seconds(cell, b.measure, rate, cells);
+        const std::string what = fmt::format("{} {} {}", cell.engine->name(), grid_text(cell.grid), cell.label);
+        const std::string about = expected >= 1 ? fmt::format(": about {}", estimate_text(expected)) : "";
+        if (columns > 0) {
+            std::string progress = fmt::format("timing {}{}...", what, about);
+            if (int(progress.size()) >= columns) progress = progress.substr(0, std::size_t(std::max(columns - 4, 1))) + "...";
+            std::cout << progress << std::flush;
+        } else if (expected >= kAnnounceSeconds) {
+            std::cerr << fmt::format("fortu: note: timing {}{}\n", what, about) << std::flush;
+        }
+        BenchCell measured = measure_cell(loaded->path, loaded->model, cell.grid, *cell.engine, b.measure, rate);
+        measured.label = cell.label;
+        if (columns > 0) std::cout << "\r\033[K";
+        std::cout << bench_table_row(layout, measured) << std::flush;
+        cells.push_back(std::move(measured));
+    }
+    std::cout << ratio_text(bench_ratios(cells));
     try {
         if (!b.json.empty()) {
             const std::string json = bench_json(cells, describe_machine(), b.measure);

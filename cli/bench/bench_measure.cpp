@@ -133,11 +133,6 @@ Grid bench_grid(const Model& model, int nodes) {
     return grid;
 }
 
-std::string grid_size_text(const Grid& g) {
-    return g.dims == 3 ? fmt::format("{}x{}x{}", g.cols(), g.rows(), g.slices())
-                       : fmt::format("{}x{}", g.cols(), g.rows());
-}
-
 double median_of(std::vector<double> v) {
     if (v.empty()) return 0;
     std::sort(v.begin(), v.end());
@@ -228,6 +223,10 @@ BenchCell new_cell(const std::string& name, const Model& model, const Grid& grid
 }
 
 }  // namespace
+
+BenchCell plan_cell(const std::string& name, const Model& model, const Grid& grid, const Engine& engine) {
+    return new_cell(name, model, grid, engine);
+}
 
 std::vector<BenchCell> measure_interleaved(const std::vector<SeriesEntry>& entries, const Engine& engine,
                                            const MeasureOptions& options) {

@@ -5,6 +5,7 @@
 // so a table never silently drops the slow side of a comparison.
 #pragma once
 
+#include "cli/model_setup.hpp"
 #include "interp/engine.hpp"
 #include "interp/model.hpp"
 #include "runtime/grid.hpp"
@@ -35,9 +36,6 @@ std::string floz_steps_text(int steps);
 /// The model's domain sampled with `nodes` nodes per axis (N×N, or N×N×N for 3 arguments).
 Grid bench_grid(const Model& model, int nodes);
 
-/// "800x800" or "64x64x64".
-std::string grid_size_text(const Grid& grid);
-
 struct MeasureOptions {
     int repeat = 3;               ///< timed runs per cell (at least one)
     double repeat_cap = 20.0;     ///< no further repeat once the runs so far took this long (s)
@@ -62,6 +60,7 @@ private:
 /// One measured (or skipped) combination of model, engine and grid.
 struct BenchCell {
     std::string model;                 ///< path or generated name
+    std::string label;                 ///< the short name tables and plots show ("" = model)
     const Engine* engine = &default_engine();   ///< what the cell times (its name goes in JSON and CSV)
     Grid grid;
     double operations_per_point = 0;   ///< classic: expanded tree; others: tape instructions
@@ -80,6 +79,7 @@ struct BenchCell {
     double estimated_seconds = -1;     ///< skipped classic cells: operations × measured rate; < 0 unknown
 
     std::size_t points() const { return grid.points(); }
+    const std::string& shown_name() const { return label.empty() ? model : label; }
     double total_operations() const { return operations_per_point * double(points()); }
     double seconds_per_point() const { return points() ? median / double(points()) : 0.0; }
 };
@@ -100,6 +100,10 @@ private:
     };
     std::map<int, Known> known_;
 };
+
+/// A cell not yet measured: its name, grid, engine and operations per point (what a table's
+/// layout and an estimate need).
+BenchCell plan_cell(const std::string& name, const Model& model, const Grid& grid, const Engine& engine);
 
 /// Times `engine` on `model` over `grid`: repeats (stopping early after options.repeat_cap
 /// seconds), min/median/max, peak memory; with options.mimages each run is the evaluation

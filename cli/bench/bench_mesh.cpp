@@ -46,7 +46,7 @@ int run_mesh_benchmarks(const std::vector<std::string>& models, const std::vecto
             std::sort(sorted.begin(), sorted.end());
             const double median = (sorted[(sorted.size() - 1) / 2] + sorted[sorted.size() / 2]) / 2;
             std::cout << fmt::format("{:<28} {:>14} {:>11} {:>11} {:>10} {:>10} {:>11} {:>11}\n",
-                                     path.substr(path.find_last_of('/') + 1), grid_size_text(grid),
+                                     path.substr(path.find_last_of('/') + 1), grid_text(grid),
                                      format_count(triangles), format_count(vertices),
                                      format_duration(median), format_duration(sorted.front()),
                                      format_bytes(peak), format_bytes(growth));

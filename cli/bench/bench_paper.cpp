@@ -76,11 +76,11 @@ BenchCell run_cell(Context& ctx, const std::string& name, const Model& model, co
             c.skipped = true;
             c.skip_reason = fmt::format("would pass the run's {} time limit", format_duration(ctx.deadline));
             c.estimated_seconds = estimate;
-            std::cerr << fmt::format("bench: {} classic {}: skipped, {}\n", name, grid_size_text(grid), c.skip_reason);
+            std::cerr << fmt::format("bench: {} classic {}: skipped, {}\n", name, grid_text(grid), c.skip_reason);
             return c;
         }
     }
-    std::cerr << fmt::format("bench: {} {} {} ...\n", name, engine.name(), grid_size_text(grid));
+    std::cerr << fmt::format("bench: {} {} {} ...\n", name, engine.name(), grid_text(grid));
     return measure_cell(name, model, grid, engine, measure, ctx.rate);
 }
 
@@ -416,7 +416,7 @@ Experiment e5_sphere(Context& ctx) {
         e.cells.push_back(run_cell(ctx, "floz3_sphere80.fortu", *model, grid, engine_named("classic"), ctx.options.measure));
         const BenchCell& v = e.cells[e.cells.size() - 2];
         const BenchCell& c = e.cells.back();
-        rows += fmt::format("| {} | {} | {} | {} | {} | {} |\n", grid_size_text(grid), format_count(grid.points()),
+        rows += fmt::format("| {} | {} | {} | {} | {} | {} |\n", grid_text(grid), format_count(grid.points()),
                             format_operations(v.operations_per_point), time_md(v), format_bytes(v.peak_rss_bytes),
                             time_md(c));
     }

@@ -190,7 +190,7 @@ int run_performance_benchmarks(const PerformanceOptions& options) {
             measure.mimages = w.mimages;
             const Grid grid = bench_grid(*m.model, size);
             std::cerr << fmt::format("bench: {} {} {}{} ...\n", m.path.filename().string(), w.engine,
-                                     grid_size_text(grid), w.mimages ? " + M-images" : "");
+                                     grid_text(grid), w.mimages ? " + M-images" : "");
             r.cell = measure_cell(m.path.string(), *m.model, grid, engine_named(w.engine), measure, unused_rate);
         }
         rows.push_back(std::move(r));

@@ -8,9 +8,11 @@
 #include <algorithm>
 #include <cmath>
 #include <ctime>
+#include <filesystem>
 #include <fmt/format.h>
 #include <fstream>
 #include <map>
+#include <set>
 #include <thread>
 
 namespace fortu {
@@ -18,19 +20,27 @@ namespace {
 
 constexpr double kSecondsPerYear = 365.25 * 86400;
 
-std::string seconds_text(double s) { return estimate_text(s); }
-
-std::string pad(const std::string& s, std::size_t width) {
-    // Pads by displayed characters (UTF-8 continuation bytes take no column).
+/// Displayed characters (UTF-8 continuation bytes take no column).
+std::size_t columns(const std::string& s) {
     std::size_t shown = 0;
     for (unsigned char c : s) shown += (c & 0xC0) != 0x80;
+    return shown;
+}
+
+std::string pad(const std::string& s, std::size_t width) {
+    const std::size_t shown = columns(s);
     return shown >= width ? s : s + std::string(width - shown, ' ');
+}
+
+std::string right(const std::string& s, std::size_t width) {
+    const std::size_t shown = columns(s);
+    return shown >= width ? s : std::string(width - shown, ' ') + s;
 }
 
 const BenchCell* find_cell(const std::vector<BenchCell>& cells, const std::string& model, const std::string& size,
                            const Engine& engine) {
     for (const BenchCell& c : cells)
-        if (c.model == model && grid_size_text(c.grid) == size && c.engine == &engine) return &c;
+        if (c.model == model && grid_text(c.grid) == size && c.engine == &engine) return &c;
     return nullptr;
 }
 
@@ -91,47 +101,99 @@ std::vector<BenchRatio> bench_ratios(const std::vector<BenchCell>& cells) {
     std::vector<BenchRatio> ratios;
     for (const BenchCell& c : cells) {
         if (!c.engine->capabilities().expanded_tree_cost) continue;
-        const std::string size = grid_size_text(c.grid);
+        const std::string size = grid_text(c.grid);
         const BenchCell* v = find_cell(cells, c.model, size, engine_named("voxel"));
         if (!v || v->skipped || v->median <= 0) continue;
         if (c.skipped && c.estimated_seconds < 0) continue;
-        ratios.push_back({c.model, size, (c.skipped ? c.estimated_seconds : c.median) / v->median, c.skipped});
+        ratios.push_back({c.model, c.shown_name(), size, (c.skipped ? c.estimated_seconds : c.median) / v->median, c.skipped});
     }
     return ratios;
 }
 
+std::string duration_text(double seconds) {
+    if (!std::isfinite(seconds) || seconds < 0) return "?";
+    // Three significant digits; a value that would round up to 1000 moves on to the next unit.
+    auto three_digits = [](double v) {
+        if (v < 9.995) return fmt::format("{:.2f}", v);
+        if (v < 99.95) return fmt::format("{:.1f}", v);
+        return fmt::format("{:.0f}", v);
+    };
+    if (seconds < 999.5e-9) return three_digits(seconds * 1e9) + " ns";
+    if (seconds < 999.5e-6) return three_digits(seconds * 1e6) + " µs";
+    return estimate_text(seconds);
+}
+
+std::vector<std::string> model_labels(const std::vector<std::string>& paths) {
+    std::map<std::string, std::set<std::string>> paths_of_stem;
+    std::vector<std::string> stems;
+    for (const std::string& path : paths) {
+        std::string stem = std::filesystem::path(path).stem().string();
+        if (stem.empty()) stem = path;
+        paths_of_stem[stem].insert(path);
+        stems.push_back(stem);
+    }
+    for (std::size_t i = 0; i < paths.size(); ++i)
+        if (paths_of_stem[stems[i]].size() > 1) stems[i] = paths[i];
+    return stems;
+}
+
+namespace {
+
+/// The widths of the fixed columns: a duration is at most "17 min 29 s".
+constexpr std::size_t kRunsWidth = 4, kTimeWidth = 11, kPerPointWidth = 9, kOpsWidth = 11, kMimagesWidth = 12;
+
+}  // namespace
+
+BenchTableLayout bench_table_layout(const std::vector<BenchCell>& planned, bool mimages) {
+    BenchTableLayout l;
+    l.mimages = mimages;
+    for (const BenchCell& c : planned) {
+        l.model = std::max(l.model, columns(c.shown_name()));
+        l.engine = std::max(l.engine, c.engine->name().size());
+        l.size = std::max(l.size, grid_text(c.grid).size());
+        l.points = std::max(l.points, format_count(c.points()).size());
+    }
+    return l;
+}
+
+std::string bench_table_header(const BenchTableLayout& l) {
+    std::string out = pad("model", l.model) + "  " + pad("engine", l.engine) + "  " + pad("size", l.size) + "  " +
+                      right("points", l.points) + "  " + right("runs", kRunsWidth) + "  " + right("min", kTimeWidth) +
+                      "  " + right("median", kTimeWidth) + "  " + right("max", kTimeWidth) + "  " +
+                      right("per point", kPerPointWidth) + "  " + right("ops/point", kOpsWidth) + "  ";
+    if (l.mimages) out += pad("M-images", kMimagesWidth) + "  ";
+    return out + "peak memory (growth)\n";
+}
+
+std::string bench_table_row(const BenchTableLayout& l, const BenchCell& c) {
+    std::string out = pad(c.shown_name(), l.model) + "  " + pad(std::string(c.engine->name()), l.engine) + "  " +
+                      pad(grid_text(c.grid), l.size) + "  " + right(format_count(c.points()), l.points) + "  ";
+    if (c.skipped)
+        return out + fmt::format("skipped: {}; estimated {} ({} operations per point)\n", c.skip_reason,
+                                 duration_text(c.estimated_seconds), format_operations(c.operations_per_point));
+    out += right(std::to_string(c.seconds.size()), kRunsWidth) + "  " + right(duration_text(c.min), kTimeWidth) +
+           "  " + right(duration_text(c.median), kTimeWidth) + "  " + right(duration_text(c.max), kTimeWidth) + "  " +
+           right(duration_text(c.seconds_per_point()), kPerPointWidth) + "  " +
+           right(format_operations(c.operations_per_point), kOpsWidth) + "  ";
+    if (l.mimages)
+        out += pad(c.mimages ? fmt::format("{} in {}", c.mimages, duration_text(c.mimages_median)) : "-",
+                   kMimagesWidth) + "  ";
+    return out + fmt::format("{} (+{})\n", format_bytes(c.peak_rss_bytes), format_bytes(c.rss_growth_bytes));
+}
+
 std::string bench_table(const std::vector<BenchCell>& cells) {
-    std::size_t model_width = 5, engine_width = 7;
-    for (const BenchCell& c : cells) {
-        model_width = std::max(model_width, c.model.size());
-        engine_width = std::max(engine_width, c.engine->name().size());
-    }
-    std::string out = pad("model", model_width) + "  " + pad("engine", engine_width) +
-                      "  size          points  runs  min        median     max"
-                      "        per point   ops/point     peak memory (growth)\n";
-    for (const BenchCell& c : cells) {
-        out += pad(c.model, model_width) + "  " + pad(std::string(c.engine->name()), engine_width) + "  " +
-               pad(grid_size_text(c.grid), 12) + fmt::format("{:>8}", format_count(c.points())) + "  ";
-        if (c.skipped) {
-            out += fmt::format("skipped: {}; estimated {} ({} operations per point)\n", c.skip_reason,
-                               seconds_text(c.estimated_seconds), format_operations(c.operations_per_point));
-            continue;
-        }
-        out += fmt::format("{:>4}  {}{}{}{}{}{}{}\n", c.seconds.size(), pad(seconds_text(c.min), 11),
-                           pad(seconds_text(c.median), 11), pad(seconds_text(c.max), 11),
-                           pad(fmt::format("{:.1f} ns", c.seconds_per_point() * 1e9), 12),
-                           pad(format_operations(c.operations_per_point), 14),
-                           fmt::format("{} (+{})", format_bytes(c.peak_rss_bytes), format_bytes(c.rss_growth_bytes)),
-                           c.mimages ? fmt::format("  incl. {} M-images: {}", c.mimages, seconds_text(c.mimages_median))
-                                     : "");
-    }
+    bool mimages = false;
+    for (const BenchCell& c : cells) mimages |= c.mimages > 0;
+    const BenchTableLayout layout = bench_table_layout(cells, mimages);
+    std::string out = bench_table_header(layout);
+    for (const BenchCell& c : cells) out += bench_table_row(layout, c);
     return out;
 }
 
 std::string ratio_text(const std::vector<BenchRatio>& ratios) {
     std::string out;
     for (const BenchRatio& r : ratios)
-        out += fmt::format("ratio classic/voxel, {} {}: {}{:.3g}{}\n", r.model, r.size, r.estimated ? "≈ " : "",
+        out += fmt::format("ratio classic/voxel, {} {}: {}{:.3g}{}\n", r.label, r.size, r.estimated ? "≈ " : "",
                            r.classic_over_voxel, r.estimated ? " (estimated: classic skipped)" : "");
     return out;
 }

@@ -35,13 +35,33 @@ std::string estimate_text(double seconds);
 /// cell was skipped (its estimate over voxel's median).
 struct BenchRatio {
     std::string model;
+    std::string label;   ///< the model's short name (BenchCell::shown_name)
     std::string size;
     double classic_over_voxel = 0;
     bool estimated = false;
 };
 std::vector<BenchRatio> bench_ratios(const std::vector<BenchCell>& cells);
 
-/// The cells as an aligned text table (one line per cell; skipped cells say why and their estimate).
+/// A duration with three significant digits in the unit that suits it: "41.9 ns", "2.08 µs",
+/// "12.3 ms", "2.35 s", then format_duration's "1 min 51 s".
+std::string duration_text(double seconds);
+
+/// Short names for model paths: each file's stem ("s1_fig3a_floz"), or the whole path where
+/// two models share a stem, so that no two lines of a table or plot look alike.
+std::vector<std::string> model_labels(const std::vector<std::string>& paths);
+
+/// The column widths of a bench table, fixed from the cells planned (not yet measured) so the
+/// header and each row can be printed the moment they are known. Every column is followed by
+/// two spaces, so no value can run into the next even past its width.
+struct BenchTableLayout {
+    std::size_t model = 5, engine = 6, size = 4, points = 6;
+    bool mimages = false;   ///< an M-images column (--mimages)
+};
+BenchTableLayout bench_table_layout(const std::vector<BenchCell>& planned, bool mimages);
+std::string bench_table_header(const BenchTableLayout& layout);
+/// One cell's line (with its newline); skipped cells say why and their estimate after `points`.
+std::string bench_table_row(const BenchTableLayout& layout, const BenchCell& cell);
+/// Header and rows.
 std::string bench_table(const std::vector<BenchCell>& cells);
 /// One line per ratio: `ratio classic/voxel, MODEL SIZE: 9.4` (`≈` and "estimated" when estimated).
 std::string ratio_text(const std::vector<BenchRatio>& ratios);

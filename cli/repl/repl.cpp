@@ -66,7 +66,13 @@ int run_repl_command(const std::vector<std::string>& args) {
     Session session(stdlib_dirs());
     Repl repl(session, ReplIo{std::cout, std::cerr, colour_wanted(), terminal_size, &g_interrupted});
     LineReader reader(interactive, interactive ? default_history_path() : std::string());
-    if (interactive) std::cout << "fortu repl: type FORTU statements or :help; Ctrl-D quits\n";
+    if (interactive) {
+        const std::vector<std::string> stdlib = stdlib_function_names(stdlib_dirs());
+        reader.set_completer([&repl, stdlib](const std::string& line, std::size_t start) {
+            return complete_repl_word(line, start, repl.names(), stdlib);
+        });
+        std::cout << "fortu repl: type FORTU statements or :help; Tab completes; Ctrl-D quits\n";
+    }
     if (!model_path.empty()) repl.load(model_path);
 
     std::string buffer;

@@ -3,7 +3,10 @@
 // write_field), so what the REPL shows is what the command line gives.
 #include "cli/repl/repl_commands.hpp"
 
+#include "cli/cli_options.hpp"
+#include "cli/model_setup.hpp"
 #include "cli/point_report.hpp"
+#include "cli/run_grid.hpp"
 
 #include "interp/classic_cost.hpp"
 #include "interp/ir_print.hpp"
@@ -11,6 +14,8 @@
 #include "runtime/fv_model.hpp"
 #include "runtime/output.hpp"
 #include "runtime/output_error.hpp"
+#include "runtime/output_formats.hpp"
+#include "runtime/surface_picture.hpp"
 #include "runtime/terminal_picture.hpp"
 
 #include <algorithm>
@@ -23,8 +28,13 @@
 namespace fortu {
 namespace {
 
-/// The classic engine's budget in the REPL (`fortu bench`'s default; `fortu run`'s is --budget).
-constexpr double kClassicBudget = 2e10;
+/// The classic engine's budget in the REPL: `fortu run`'s default --budget.
+const double kClassicBudget = CliOptions{}.budget;
+
+const char* const kAxisNames[3] = {"x", "y", "z"};
+
+/// The default size of a shaded view, as `fortu run`'s.
+constexpr int kViewPixels = 512;
 
 std::vector<std::string> split_words(const std::string& text) {
     std::istringstream in(text);
@@ -56,11 +66,6 @@ std::optional<int> parse_count(const std::string& text) {
     return static_cast<int>(*v);
 }
 
-std::string grid_text(const Grid& g) {
-    return g.dims == 3 && g.slices() > 1 ? fmt::format("{}x{}x{}", g.cols(), g.rows(), g.slices())
-                                         : fmt::format("{}x{}", g.cols(), g.rows());
-}
-
 std::string seconds_text(double s) { return fmt::format("{:.4f} s", s); }
 
 /// The engines :engine offers: those whose values agree bit for bit (points with gradients
@@ -77,8 +82,10 @@ std::string Repl::help_text() {
            "place, and everything defined from it follows. A bare expression prints its value at the\n"
            "probe point (the last :eval point).\n"
            "  :eval X Y [Z]          value, gradient, M-image normal at a point (and make it the probe)\n"
-           "  :show                  draw the model in the terminal\n"
-           "  :render FILE           write the image (" + output_extensions_text() + ") as `fortu run -o`\n"
+           "  :show [PICTURE]        draw the model in the terminal\n"
+           "  :render FILE [PICTURE] write the image (" + output_extensions_text() + ") as `fortu run -o`\n"
+           "      PICTURE, for a 3D model: --slice z=V|x=V|y=V|K (a plane) or --view top|front|side|iso|AZ,EL\n"
+           "      and --up x|y|z (a shaded view of the solid, the default), as `fortu run`\n"
            "  :domain [XMIN XMAX YMIN YMAX [ZMIN ZMAX] | default]   show or set the domain\n"
            "  :size [W [H [D]] | default]                          show or set the grid nodes of :render\n"
            "  :engine [" + engine_names("|", "|", offered) + "]  show or choose the engine\n"
@@ -132,6 +139,20 @@ bool Repl::command(const std::string& line) {
         if (rest.empty()) { error(fmt::format("{} needs a file name", name)); return std::nullopt; }
         return rest;
     };
+    // :render FILE [--slice S] [--view V] [--up A]: the file name is everything before the first option.
+    auto path_and_options = [&]() -> std::optional<std::pair<std::string, std::vector<std::string>>> {
+        const std::string rest = trim(line.substr(name.size()));
+        std::size_t options_at = rest.size();
+        for (std::size_t at = 0; (at = rest.find_first_not_of(" \t", at)) != std::string::npos;) {
+            const std::size_t end = std::min(rest.find_first_of(" \t", at), rest.size());
+            const std::string word = rest.substr(at, end - at);
+            if (word == "--slice" || word == "--view" || word == "--up") { options_at = at; break; }
+            at = end;
+        }
+        const std::string path = trim(rest.substr(0, options_at));
+        if (path.empty()) { error(fmt::format("{} needs a file name", name)); return std::nullopt; }
+        return std::pair{path, split_words(rest.substr(options_at))};
+    };
     auto no_arguments = [&]() {
         if (words.empty()) return true;
         error(fmt::format("{} takes no arguments", name));
@@ -140,8 +161,8 @@ bool Repl::command(const std::string& line) {
     if (name == ":quit" || name == ":q" || name == ":exit") return false;
     if (name == ":help" || name == ":h" || name == ":?") { io_.out << help_text(); return true; }
     if (name == ":eval") eval(words);
-    else if (name == ":show") { if (no_arguments()) show(); }
-    else if (name == ":render") { if (auto p = one_path()) render({*p}); }
+    else if (name == ":show") show(words);
+    else if (name == ":render") { if (auto p = path_and_options()) render(p->first, p->second); }
     else if (name == ":domain") domain(words);
     else if (name == ":size") size(words);
     else if (name == ":engine") {
@@ -155,6 +176,7 @@ bool Repl::command(const std::string& line) {
             io_.out << fmt::format("rsystem: {}{}\n", r.name(), session_.rsystem() ? "" : " (unless the script says otherwise)");
         } else if (auto r = parse_rsystem(words[0]); r && words.size() == 1) {
             session_.set_rsystem(*r);
+            last_.reset();
         } else {
             error(fmt::format(":rsystem: '{}' is not r0, minmax, r1 or alpha=A with A in (-1, 1]",
                               trim(line.substr(name.size()))));
@@ -186,20 +208,17 @@ void Repl::fortu_text(const std::string& text) {
         io_.out << fmt::format("{}\n", evaluate_point(m, probe_, *engine_).value);
         return;
     }
+    // The model may have changed: the last evaluation is no longer this model's.
+    if (!r.changes.empty()) last_.reset();
     for (const std::string& change : r.changes)
         if (change.rfind("replaced ", 0) == 0) io_.out << change << "\n";
 }
 
 std::optional<std::string> Repl::classic_refusal(const Engine& engine, double points) const {
-    if (!engine.capabilities().expanded_tree_cost) return std::nullopt;
-    const Model& m = session_.model();
-    if (dag_depth(m.graph, m.root) > kClassicMaxDepth)
-        return "the model is too deep for the classic engine's recursion\nnote: use :engine voxel";
-    const double per_point = classic_operations_per_point(m.graph, m.root);
-    if (per_point * points <= kClassicBudget) return std::nullopt;
-    return fmt::format("the classic engine would need {} operations per point x {} points (budget {:.3g})\n"
-                       "note: use :engine voxel or a smaller :size",
-                       format_operations(per_point), format_operations(points), kClassicBudget);
+    // fortu run's check and budget; the advice names the REPL's commands instead of options.
+    std::optional<std::string> refusal = fortu::classic_refusal(session_.model(), engine, points, kClassicBudget);
+    if (refusal) *refusal = refusal->substr(0, refusal->find("\nnote: ")) + "\nnote: use :engine voxel or a smaller :size";
+    return refusal;
 }
 
 std::optional<Field> Repl::evaluate(const Grid& grid) {
@@ -234,42 +253,180 @@ void Repl::eval(const std::vector<std::string>& args) {
     io_.out << point_report(m, p, *engine_, session_.grid());
 }
 
-void Repl::show() {
+std::optional<Repl::PictureChoice> Repl::picture_choice(const std::string& command,
+                                                        const std::vector<std::string>& args) {
+    PictureChoice choice;
+    for (std::size_t i = 0; i < args.size(); i += 2) {
+        const std::string& option = args[i];
+        if (option != "--slice" && option != "--view" && option != "--up") {
+            error(fmt::format("{}: '{}' is not --slice, --view or --up", command, option));
+            return std::nullopt;
+        }
+        if (i + 1 == args.size()) {
+            error(fmt::format("{}: {} needs a value", command, option));
+            return std::nullopt;
+        }
+        const std::string& value = args[i + 1];
+        if (option == "--slice") {
+            choice.slice = parse_slice_choice(value);   // throws UsageError, reported by handle()
+        } else if (option == "--view") {
+            const std::optional<ViewDirection> view = parse_view_direction(value);
+            if (!view) {
+                error(fmt::format("{}: --view: '{}' is not top, front, side, iso or AZ,EL in degrees", command, value));
+                return std::nullopt;
+            }
+            choice.view.azimuth = view->azimuth;
+            choice.view.elevation = view->elevation;
+            choice.view_given = true;
+        } else {
+            const std::string axes = "xyz";
+            const std::size_t axis = value.size() == 1 ? axes.find(char(std::tolower(static_cast<unsigned char>(value[0]))))
+                                                       : std::string::npos;
+            if (axis == std::string::npos) {
+                error(fmt::format("{}: --up: '{}' is not x, y or z", command, value));
+                return std::nullopt;
+            }
+            choice.view.up = int(axis);
+            choice.view_given = true;
+        }
+    }
+    if (choice.slice && choice.view_given) {
+        error(fmt::format("{}: a picture is a plane (--slice) or a shaded view (--view, --up), not both", command));
+        return std::nullopt;
+    }
+    if ((choice.slice || choice.view_given) && session_.model().dims() != 3) {
+        error(fmt::format("{}: --slice, --view and --up draw 3D models; this one has {} argument(s)", command,
+                          session_.model().arguments.size()));
+        return std::nullopt;
+    }
+    return choice;
+}
+
+Grid Repl::plane_grid(const SliceChoice& slice, const std::vector<int>& size) {
+    CliOptions o;
+    o.size = size;
+    o.domain = session_.domain();
+    o.slice = slice;
+    return run_grid(session_.model(), o);   // fortu run's plane: square cells, checked bounds
+}
+
+namespace {
+
+/// Where a grid lies: "x [-1, 1], y [-1, 1], z = 0" (an axis of one node is its coordinate).
+std::string extent_text(const Grid& g) {
+    const Axis* axes[3] = {&g.x, &g.y, &g.z};
+    std::string out;
+    for (int a = 0; a < g.dims; ++a) {
+        out += a ? ", " : "";
+        out += axes[a]->nodes == 1 && g.dims == 3 ? fmt::format("{} = {}", kAxisNames[a], axes[a]->min)
+                                                  : fmt::format("{} [{}, {}]", kAxisNames[a], axes[a]->min, axes[a]->max);
+    }
+    return out;
+}
+
+/// The largest w × h (w ≤ max_w, h ≤ max_h) with the aspect wide : tall.
+std::pair<int, int> fit_aspect(double wide, double tall, int max_w, int max_h) {
+    int w = max_w, h = static_cast<int>(std::lround(max_w * tall / wide));
+    if (h > max_h) { h = max_h; w = std::clamp(static_cast<int>(std::lround(max_h * wide / tall)), 2, max_w); }
+    return {w, std::max(2, h)};
+}
+
+std::string view_text(const ViewDirection& v) {
+    return fmt::format("azimuth {}, elevation {}, {} up", v.azimuth, v.elevation, kAxisNames[v.up]);
+}
+
+}  // namespace
+
+void Repl::show(const std::vector<std::string>& args) {
     if (!need_model()) return;
+    const std::optional<PictureChoice> choice = picture_choice(":show", args);
+    if (!choice) return;
     auto [columns, lines] = io_.terminal_size ? io_.terminal_size() : std::pair{80, 24};
     columns = std::max(columns, 8);
     lines = std::max(lines, 6);
     // Two pixels per cell, stacked: a cell is about twice as tall as wide, so pixels are
     // square and the picture keeps the domain's aspect. Two lines stay for caption and prompt.
-    const Grid domain = session_.grid();
-    const double wide = domain.x.max - domain.x.min, tall = domain.y.max - domain.y.min;
     const int max_w = columns, max_h = 2 * (lines - 2);
-    int w = max_w, h = static_cast<int>(std::lround(max_w * tall / wide));
-    if (h > max_h) { h = max_h; w = std::clamp(static_cast<int>(std::lround(max_h * wide / tall)), 2, max_w); }
-    h = std::max(2, h);
-    const std::optional<Field> field = evaluate(session_.grid_with_nodes(w, h));
+    const std::string legend = io_.colour ? "warm inside, blue outside, black contour"
+                                          : fmt::format("{} inside, {} outside, {} contour", kAsciiInside,
+                                                        kAsciiOutside, kAsciiContour);
+    const Model& m = session_.model();
+    if (m.dims() == 3 && !choice->slice) {
+        const Grid cube = session_.grid();
+        const std::array<AxisRange, 3> box{AxisRange{cube.x.min, cube.x.max}, AxisRange{cube.y.min, cube.y.max},
+                                           AxisRange{cube.z.min, cube.z.max}};
+        EvalOptions options;
+        options.cancel = io_.interrupt;
+        const SurfaceImage image = render_shaded_view(m.graph, m.root, box, choice->view, max_w, max_h, options);
+        if (io_.interrupt && io_.interrupt->load()) return error("interrupted");
+        io_.out << terminal_surface_picture(image, io_.colour);
+        io_.out << fmt::format("{}; shaded view, {}; {}\n", extent_text(cube), view_text(choice->view),
+                               io_.colour ? "cut faces cream"
+                                          : fmt::format("{} surface, {} cut by the domain", kAsciiSurface, kAsciiCut));
+        return;
+    }
+    Grid grid;
+    if (choice->slice) {
+        SliceChoice slice = *choice->slice;
+        if (slice.index) {   // z slice K of the :size cube, drawn at the terminal's size
+            const Grid cube = session_.grid();
+            if (*slice.index >= cube.slices())
+                return error(fmt::format(":show: --slice {} is outside 0..{}", *slice.index, cube.slices() - 1));
+            slice = SliceChoice{2, std::nullopt, cube.z_at(*slice.index)};
+        }
+        // The plane's picture: across, X (Y for an x plane); up, Y for a z plane, else Z.
+        const Grid plane = plane_grid(slice, {});
+        const Axis& across = slice.axis == 0 ? plane.y : plane.x;
+        const Axis& up = slice.axis == 2 ? plane.y : plane.z;
+        const auto [w, h] = fit_aspect(across.max - across.min, up.max - up.min, max_w, max_h);
+        grid = plane_grid(slice, {w, h});
+    } else {
+        const Grid domain = session_.grid();
+        const auto [w, h] = fit_aspect(domain.x.max - domain.x.min, domain.y.max - domain.y.min, max_w, max_h);
+        grid = session_.grid_with_nodes(w, h);
+    }
+    const std::optional<Field> field = evaluate(grid);
     if (!field) return;
-    io_.out << terminal_picture(*field, 0, io_.colour);
-    const Grid& g = field->grid;
-    io_.out << fmt::format("x [{}, {}], y [{}, {}]{}; {}\n", g.x.min, g.x.max, g.y.min, g.y.max,
-                           g.dims == 3 ? fmt::format(", z = {}", g.z.min) : "",
-                           io_.colour ? "warm inside, blue outside, black contour"
-                                      : fmt::format("{} inside, {} outside, {} contour", kAsciiInside,
-                                                    kAsciiOutside, kAsciiContour));
+    io_.out << terminal_picture(plane_picture(*field), 0, io_.colour);
+    io_.out << fmt::format("{}; {}\n", extent_text(grid), legend);
 }
 
-void Repl::render(const std::vector<std::string>& args) {
+void Repl::render(const std::string& path, const std::vector<std::string>& args) {
     if (!need_model()) return;
-    const std::string& path = args[0];
-    if (!output_format_for(path))
+    const OutputFormat* format = output_format_for(path);
+    if (!format)
         return error(fmt::format(":render: cannot write '{}': the extension is not one of {}", path,
                                  fmt::join(supported_output_extensions(), ", ")));
-    const Grid grid = session_.grid();
+    const std::optional<PictureChoice> choice = picture_choice(":render", args);
+    if (!choice) return;
+    const Model& m = session_.model();
+    const bool picture = format->kind == OutputKind::Picture;
+    if (choice->view_given && !picture)
+        return error(fmt::format(":render: a shaded view is a picture; '{}' is not one", path));
+    if (m.dims() == 3 && picture && !choice->slice) {
+        // As fortu run: a 3D picture is the shaded view of the solid, :size N (or W H) pixels.
+        const std::vector<int>& size = session_.size();
+        if (size.size() == 3) return error(":render: a shaded view is a picture; give :size N or :size W H");
+        const int w = size.empty() ? kViewPixels : size[0], h = size.size() == 2 ? size[1] : w;
+        const Grid cube = session_.grid();
+        const std::array<AxisRange, 3> box{AxisRange{cube.x.min, cube.x.max}, AxisRange{cube.y.min, cube.y.max},
+                                           AxisRange{cube.z.min, cube.z.max}};
+        EvalOptions options;
+        options.cancel = io_.interrupt;
+        const SurfaceImage image = render_shaded_view(m.graph, m.root, box, choice->view, w, h, options);
+        if (io_.interrupt && io_.interrupt->load()) return error("interrupted");
+        write_surface_picture(image, path);
+        io_.out << fmt::format("wrote {} ({}x{} shaded view, {})\n", path, w, h, view_text(choice->view));
+        return;
+    }
+    const Grid grid = choice->slice ? plane_grid(*choice->slice, session_.size()) : session_.grid();
     if (grid.points() > kMaxGridPoints) return error(":render: the grid is too large; choose a smaller :size");
     const std::optional<Field> field = evaluate(grid);
     if (!field) return;
-    write_field(*field, path);
-    io_.out << fmt::format("wrote {} ({})\n", path, grid_text(grid));
+    // Pictures of an x or y plane show it with Z up; values files keep the grid's axes.
+    write_field(picture ? plane_picture(*field) : *field, path);
+    io_.out << fmt::format("wrote {} ({}{})\n", path, grid_text(grid),
+                           choice->slice ? fmt::format(", {}", extent_text(grid)) : "");
 }
 
 void Repl::domain(const std::vector<std::string>& args) {
@@ -297,7 +454,11 @@ void Repl::size(const std::vector<std::string>& args) {
         io_.out << fmt::format("size: {}\n", grid_text(session_.grid()));
         return;
     }
-    if (args.size() == 1 && args[0] == "default") { session_.set_size({}); return; }
+    if (args.size() == 1 && args[0] == "default") {
+        session_.set_size({});
+        io_.out << fmt::format("size: {}\n", grid_text(session_.grid()));
+        return;
+    }
     std::vector<std::string> parts;
     if (args.size() == 1) {
         std::string rest = args[0];
@@ -320,11 +481,13 @@ void Repl::size(const std::vector<std::string>& args) {
         return error(fmt::format(":size: {} is more points than the {} fortu allocates", fmt::join(parts, "x"),
                                  format_operations(double(kMaxGridPoints))));
     }
+    io_.out << fmt::format("size: {}\n", grid_text(session_.grid()));
 }
 
 void Repl::time() {
     if (!need_model()) return;
     const Grid grid = last_ ? last_->grid : session_.grid();
+    if (!last_) io_.out << "last evaluation: none of this model yet (:show and :render evaluate it)\n";
     if (last_) {
         const EvalReport& r = *last_;
         std::string what;
@@ -378,6 +541,7 @@ void Repl::load(const std::string& path) {
     if (r.kind == SubmitResult::Kind::Error) { had_error_ = true; return; }
     if (r.kind == SubmitResult::Kind::Expression)
         return error(fmt::format("'{}' is an expression, not a script", path));
+    if (!r.changes.empty()) last_.reset();
     io_.out << fmt::format("loaded {} ({} statement{})\n", path, r.changes.size(), r.changes.size() == 1 ? "" : "s");
 }
 

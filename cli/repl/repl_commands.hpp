@@ -4,8 +4,10 @@
 // except through ReplIo.
 #pragma once
 
+#include "cli/slice_choice.hpp"
 #include "interp/engine.hpp"
 #include "interp/session.hpp"
+#include "interp/shaded_view.hpp"
 
 #include <array>
 #include <atomic>
@@ -43,6 +45,9 @@ public:
     /// :help
     static std::string help_text();
 
+    /// What Tab completes to in FORTU text: the session's names.
+    std::vector<std::string> names() const { return session_.names(); }
+
 private:
     bool command(const std::string& line);
     void fortu_text(const std::string& text);
@@ -51,9 +56,21 @@ private:
     std::optional<std::string> classic_refusal(const Engine& engine, double points) const;
     std::optional<Field> evaluate(const Grid& grid);
 
+    /// What :show and :render draw of a 3D model: a plane (--slice) or a shaded view (--view,
+    /// --up; a picture's default), as `fortu run` does.
+    struct PictureChoice {
+        std::optional<SliceChoice> slice;
+        ViewDirection view{45, 35.264389682754654};
+        bool view_given = false;
+    };
+    /// Reads --slice S, --view V and --up A from `args`; nullopt (reported) when malformed.
+    std::optional<PictureChoice> picture_choice(const std::string& command, const std::vector<std::string>& args);
+    /// The grid of the plane `slice` names, `nodes` along its longer side (0: as :size says).
+    Grid plane_grid(const SliceChoice& slice, const std::vector<int>& size);
+
     void eval(const std::vector<std::string>& args);
-    void show();
-    void render(const std::vector<std::string>& args);
+    void show(const std::vector<std::string>& args);
+    void render(const std::string& path, const std::vector<std::string>& args);
     void domain(const std::vector<std::string>& args);
     void size(const std::vector<std::string>& args);
     void time();

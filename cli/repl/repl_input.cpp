@@ -2,9 +2,11 @@
 // History problems (no HOME, unwritable file) are never errors: the session just has none.
 #include "cli/repl/repl_input.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <iostream>
 
 #include <editline/readline.h>
@@ -13,6 +15,28 @@ namespace fortu {
 namespace {
 
 constexpr int kHistoryLines = 1000;
+
+/// libedit calls plain functions: the completer of the one interactive reader, and the
+/// words of the completion in progress.
+LineReader::Completer* g_completer = nullptr;
+std::vector<std::string> g_matches;
+
+char* next_match(const char*, int state) {
+    static std::size_t next = 0;
+    if (state == 0) next = 0;
+    return next < g_matches.size() ? strdup(g_matches[next++].c_str()) : nullptr;
+}
+
+char** complete(const char* text, int start, int end) {
+    rl_attempted_completion_over = 1;   // no file names unless the completer asks for them
+    if (!g_completer || !rl_line_buffer) return nullptr;
+    const std::string line(rl_line_buffer, std::size_t(std::max(end, 0)));
+    const Completion c = (*g_completer)(line, std::size_t(std::max(start, 0)));
+    if (c.files) return rl_completion_matches(text, rl_filename_completion_function);
+    g_matches = c.words;
+    if (g_matches.empty()) return nullptr;
+    return rl_completion_matches(text, next_match);
+}
 
 std::string upper_word(const std::string& text, std::size_t& i) {
     std::string word;
@@ -64,6 +88,22 @@ LineReader::LineReader(bool interactive, std::string history_path)
     using_history();
     stifle_history(kHistoryLines);
     if (!history_path_.empty()) read_history(history_path_.c_str());
+}
+
+LineReader::~LineReader() {
+    if (interactive_) rl_attempted_completion_function = nullptr;
+    g_completer = nullptr;
+}
+
+void LineReader::set_completer(Completer completer) {
+    if (!interactive_) return;
+    completer_ = std::move(completer);
+    g_completer = &completer_;
+    rl_attempted_completion_function = complete;
+    // Words end at blanks and FORTU's operators; ':', '/' and '-' stay in (commands, paths, --options).
+    static char breaks[] = " \t\n\"'(),=+*^&|!<>;";
+    rl_completer_word_break_characters = breaks;
+    rl_basic_word_break_characters = breaks;
 }
 
 std::optional<std::string> LineReader::read(const std::string& prompt) {

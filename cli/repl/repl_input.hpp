@@ -3,6 +3,9 @@
 // the rule for when a multi-line block (FUNCTION ... END, FOR ... END FOR) is complete.
 #pragma once
 
+#include "cli/repl/repl_completion.hpp"
+
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -29,9 +32,16 @@ public:
     std::optional<std::string> read(const std::string& prompt);
     bool interactive() const { return interactive_; }
 
+    /// What Tab completes: given the line up to the cursor and where the word being completed
+    /// starts. One reader at a time owns libedit's completion (it is process-wide).
+    using Completer = std::function<Completion(const std::string& line, std::size_t word_start)>;
+    void set_completer(Completer completer);
+    ~LineReader();
+
 private:
     bool interactive_;
     std::string history_path_;
+    Completer completer_;
 };
 
 }  // namespace fortu

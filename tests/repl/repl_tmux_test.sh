@@ -1,7 +1,7 @@
 #!/bin/sh
 # tests/repl/repl_tmux_test.sh FORTU — drives `fortu repl` in a tmux pane (send-keys, then
 # capture-pane) and checks what a user sees: the half-block picture of a disc, a syntax error
-# with its caret, Ctrl-C stopping a long evaluation (not the REPL) and dropping a half-typed
+# with its caret, Tab completion, Ctrl-C stopping a long evaluation (not the REPL) and dropping a half-typed
 # line, Ctrl-D quitting, the history file. Exit 0 only if every check passed. Every step waits
 # for what the session shows (or, for a running evaluation, for the CPU time it has used), never
 # for a fixed time, so the test passes on a loaded machine too.
@@ -70,6 +70,7 @@ wait_for_cpu() {
 
 mkdir -p "$WORK/home"
 cd "$WORK" || exit 1
+echo 'VARIABLE RING = 0.6 - SQRT(X^2 + Y^2)' > "$WORK/ring_model.fortu"   # for :load's completion
 # The launcher records fortu's process id (exec keeps it) for wait_for_cpu.
 cat > "$WORK/launch.sh" <<EOF
 echo \$\$ > '$WORK/fortu.pid'
@@ -102,11 +103,27 @@ else
     fail ":show drew nothing"
 fi
 
+# Tab completes a command, a built-in function, an engine, a file name. Each line is then
+# finished with Enter (keys stay in order; a Ctrl-C would race with the typing).
+$T send-keys -t repl ':ren' Tab
+wait_for '^fortu> :render ?$' && pass "Tab completes :ren to :render" || fail "Tab did not complete :ren"
+$T send-keys -t repl Enter
+wait_for '^fortu: error: :render needs a file name$' || fail ":render without a file"
+$T send-keys -t repl 'VARIABLE DISC = 0.6 - SQ' Tab
+wait_for '^fortu> VARIABLE DISC = 0\.6 - SQRT ?$' && pass "Tab completes SQ to SQRT" || fail "Tab did not complete SQ"
+$T send-keys -t repl '(X^2 + Y^2)' Enter ':engine vo' Tab
+wait_for '^fortu> :engine voxel ?$' && pass "Tab completes an engine" || fail "Tab did not complete the engine"
+$T send-keys -t repl Enter ':load ring_m' Tab
+wait_for '^fortu> :load ring_model\.fortu ?$' && pass "Tab completes a file name after :load" \
+    || fail "Tab did not complete the file"
+$T send-keys -t repl Enter
+wait_for '^loaded ring_model\.fortu \(1 statement\)$' || fail "the completed file was not loaded"
+
 # Ctrl-C stops a long evaluation, not the REPL; no half-written file is left.
 $T send-keys -t repl 'VARIABLE D = 0' Enter 'FOR I = 1, 2000' Enter \
     'D = D | (0.01 - SQRT((X - I/1000)^2 + Y^2))' Enter 'END FOR' Enter 'RETURN D' Enter \
     ':size 2000' Enter
-wait_for_prompt_after ':size 2000' || fail "the long model was not set up"
+wait_for '^size: 2000x2000$' || fail "the long model was not set up"
 before=$(cpu_ticks)
 $T send-keys -t repl ':render big.npy' Enter
 wait_for_cpu 20 "$before" || fail "the evaluation did not start"

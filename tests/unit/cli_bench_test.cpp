@@ -9,6 +9,7 @@
 #include <doctest/doctest.h>
 
 #include <filesystem>
+#include <regex>
 #include <fstream>
 #include <sstream>
 #include <vector>
@@ -89,12 +90,12 @@ TEST_CASE("fortu bench: the over-budget classic cell is printed as skipped with 
     REQUIRE(r.status == 0);
     const auto lines = lines_of(r.out);
     REQUIRE(lines.size() == 4);
-    const std::string prefix =
-        m + "  classic  10x10            100  skipped: 1e+03 operations, over the budget of 999; estimated ";
+    // Models are named by their file's stem in the table (the JSON and CSV keep the path).
+    const std::string prefix = "and    classic  10x10     100  skipped: 1e+03 operations, over the budget of 999; estimated ";
     CHECK(lines[1].starts_with(prefix));
     CHECK(lines[1].ends_with(" (10 operations per point)"));
-    CHECK(lines[2].starts_with(m + "  voxel    10x10            100     1  "));
-    CHECK(lines[3].starts_with("ratio classic/voxel, " + m + " 10x10: ≈ "));
+    CHECK(lines[2].starts_with("and    voxel    10x10     100     1  "));
+    CHECK(lines[3].starts_with("ratio classic/voxel, and 10x10: ≈ "));
     CHECK(lines[3].ends_with(" (estimated: classic skipped)"));
 }
 
@@ -148,8 +149,8 @@ TEST_CASE("fortu bench: JSON and CSV documents have the documented structure") {
     const std::string svg = t.read("b.svg");
     CHECK(svg.rfind("<?xml", 0) == 0);
     CHECK(count(svg, "<g class=\"series\"") == 2);   // classic (8x8 only) and voxel
-    CHECK(svg.find(">" + m + " (classic)</text>") != std::string::npos);
-    CHECK(svg.find(">" + m + " (voxel)</text>") != std::string::npos);
+    CHECK(svg.find(">and (classic)</text>") != std::string::npos);
+    CHECK(svg.find(">and (voxel)</text>") != std::string::npos);
     CHECK(svg.find(">grid points (log scale)</text>") != std::string::npos);
     CHECK(svg.find(">wall time (s) (log scale)</text>") != std::string::npos);
 }
@@ -205,10 +206,11 @@ TEST_CASE("fortu bench: float32, sign and M-image cells in the JSON, CSV and tab
     const auto lines = lines_of(r.out);
     REQUIRE(lines.size() == 3);   // header and two cells; no classic/voxel ratio
     CHECK(lines[0].starts_with("model"));
-    CHECK(lines[1].starts_with(m + "  voxel-f32  16x16            256     2  "));
-    CHECK(lines[1].find("  incl. 4 M-images: ") != std::string::npos);
-    CHECK(lines[2].starts_with(m + "  sign       16x16            256     2  "));
-    CHECK(lines[2].find("M-images") == std::string::npos);
+    CHECK(lines[0].find("  M-images      peak memory (growth)") != std::string::npos);
+    CHECK(lines[1].starts_with("s1_fig3a_floz  voxel-f32  16x16     256     2  "));
+    CHECK(lines[1].find("  4 in ") != std::string::npos);
+    CHECK(lines[2].starts_with("s1_fig3a_floz  sign       16x16     256     2  "));
+    CHECK(lines[2].find("  -             ") != std::string::npos);   // a sign image has no M-images
 
     const std::string json = t.read("b.json");
     CHECK(json.find("\"memory_method\": ") != std::string::npos);
@@ -298,4 +300,114 @@ TEST_CASE("E4's fit of time against points leaves a skipped cell out and says so
     CHECK(fortu::points_fit_text("classic", none) == "- classic: no fit: 1 of 4 sizes measured, 3 skipped over budget\n");
     const fortu::PointsFit all = fortu::fit_time_per_point({cells[0], cells[1]});
     CHECK(fortu::points_fit_text("voxel", all).ends_with("straight-line fit R² 1.0000\n"));
+}
+
+namespace {
+
+/// A table line's columns: the text between runs of two or more spaces.
+std::vector<std::string> columns_of(const std::string& line) {
+    static const std::regex gap(" {2,}");
+    std::vector<std::string> out;
+    for (std::sregex_token_iterator it(line.begin(), line.end(), gap, -1), end; it != end; ++it)
+        if (!it->str().empty()) out.push_back(*it);
+    return out;
+}
+
+/// Where each column of `line` ends (its last character + 1), in displayed characters.
+std::vector<std::size_t> column_ends(const std::string& line) {
+    static const std::regex column("\\S+( \\S+)*");
+    std::vector<std::size_t> ends;
+    for (std::sregex_iterator it(line.begin(), line.end(), column), end; it != end; ++it) {
+        const std::size_t bytes = std::size_t(it->position() + it->length());
+        std::size_t shown = 0;   // UTF-8 continuation bytes (µ's second) take no column
+        for (std::size_t i = 0; i < bytes; ++i) shown += (static_cast<unsigned char>(line[i]) & 0xC0) != 0x80;
+        ends.push_back(shown);
+    }
+    return ends;
+}
+
+}  // namespace
+
+TEST_CASE("fortu bench: the table parsed back has its columns apart, each time in its own unit") {
+    TempDir t;
+    // A long folder name: the table and the plot name the model by its stem.
+    const std::string deep = (t.path / "a_rather_long_folder_name_for_the_examples").string();
+    std::filesystem::create_directories(deep);
+    std::string text = fortu::test::read_file(std::string(FORTU_SOURCE_DIR) + "/examples/nested_discs.fortu");
+    text.replace(text.find("CONSTANT N = 12;"), 16, "CONSTANT N = 8;");   // a quick classic cell
+    const std::string m = deep + "/nested_discs.fortu";
+    std::ofstream(m) << text;
+    const auto r = run_fortu("bench " + quote(m) + " " + quote(t.write("and.fortu", kAnd)) +
+                                 " --sizes 12,40 --repeat 2 --threads 1 --plot " + quote((t.path / "b.svg").string()),
+                             ".", true);
+    REQUIRE(r.status == 0);
+    const auto lines = lines_of(r.out);
+    REQUIRE(lines.size() == 1 + 8 + 4);   // header, 2 models x 2 sizes x 2 engines, 4 ratios
+    const std::vector<std::string> header{"model", "engine", "size", "points", "runs", "min", "median", "max",
+                                          "per point", "ops/point", "peak memory (growth)"};
+    CHECK(columns_of(lines[0]) == header);
+    const std::regex time("[0-9]+(\\.[0-9]+)? (ns|µs|ms|s)");
+    const std::regex count("[0-9]{1,3}(,[0-9]{3})*");
+    const std::regex memory("[0-9.]+ (B|KiB|MiB|GiB) \\(\\+[0-9.]+ (B|KiB|MiB|GiB)\\)");
+    const std::vector<std::size_t> header_ends = column_ends(lines[0]);
+    for (std::size_t i = 1; i <= 8; ++i) {
+        CAPTURE(lines[i]);
+        const auto c = columns_of(lines[i]);
+        REQUIRE(c.size() == header.size());
+        CHECK(c[0] == (i <= 4 ? "nested_discs" : "and"));
+        CHECK(c[1] == (i % 2 ? "classic" : "voxel"));
+        CHECK(c[2] == ((i - 1) % 4 < 2 ? "12x12" : "40x40"));
+        CHECK(c[3] == ((i - 1) % 4 < 2 ? "144" : "1,600"));
+        CHECK(c[4] == "2");
+        for (int k : {5, 6, 7, 8}) CHECK_MESSAGE(std::regex_match(c[k], time), c[k]);
+        CHECK(std::regex_match(c[9], count));
+        CHECK(std::regex_match(c[10], memory));
+        // The numbers are right-aligned under their headings.
+        const auto ends = column_ends(lines[i]);
+        for (int k = 3; k <= 9; ++k) CHECK(ends[k] == header_ends[k]);
+    }
+    CHECK(columns_of(lines[1])[9] == "8,424");   // nested_discs' classic cost with N = 8
+    CHECK(lines[9] == "ratio classic/voxel, nested_discs 12x12: " + lines[9].substr(41));
+
+    // The plot's legend names each line by the model's stem and is not cut at the picture's edge.
+    const std::string svg = t.read("b.svg");
+    for (const char* name : {"nested_discs (classic)", "nested_discs (voxel)", "and (classic)", "and (voxel)"})
+        CHECK(svg.find(std::string(">") + name + "</text>") != std::string::npos);
+    const std::smatch width = [&] {
+        std::smatch m;
+        std::regex_search(svg, m, std::regex("<svg [^>]*width=\"([0-9.]+)\""));
+        return m;
+    }();
+    REQUIRE(width.size() == 2);
+    std::smatch legend;
+    REQUIRE(std::regex_search(svg, legend, std::regex("<text class=\"legend\" x=\"([0-9.]+)\"")));
+    CHECK(std::stod(legend[1]) + 7.5 * std::string("nested_discs (classic)").size() <= std::stod(width[1]));
+}
+
+TEST_CASE("bench durations: three significant digits in the unit that suits each value") {
+    CHECK(fortu::duration_text(41.94e-9) == "41.9 ns");
+    CHECK(fortu::duration_text(2.0770105e-3) == "2.08 ms");
+    CHECK(fortu::duration_text(999.7e-9) == "1.00 µs");
+    CHECK(fortu::duration_text(123.4e-6) == "123 µs");
+    CHECK(fortu::duration_text(2.35) == "2.35 s");
+    CHECK(fortu::duration_text(111) == "1 min 51 s");
+    CHECK(fortu::duration_text(-1) == "?");
+    CHECK(fortu::model_labels({"/a/x/s1.fortu", "/a/y/s1.fortu", "b/tor.vm"}) ==
+          std::vector<std::string>{"/a/x/s1.fortu", "/a/y/s1.fortu", "tor"});
+}
+
+TEST_CASE("fortu bench on a terminal: the header at once, a progress line per cell that its row replaces") {
+    TempDir t;
+    const std::string m = t.write("and.fortu", kAnd);
+    // script(1) gives fortu a pseudo-terminal; its output is what the terminal received.
+    const auto r = fortu::test::run_shell("script -qec " +
+                                          quote(quote(FORTU_BINARY) + " bench " + quote(m) + " --sizes 8 --repeat 1") +
+                                          " /dev/null");
+    REQUIRE(r.status == 0);
+    const auto lines = lines_of(r.out);
+    REQUIRE(lines.size() == 4);
+    CHECK(lines[0].starts_with("model  engine   size  points  runs"));
+    CHECK(lines[1].starts_with("timing classic 8x8 and...\r\x1b[Kand    classic  8x8       64     1  "));
+    CHECK(lines[2].starts_with("timing voxel 8x8 and...\r\x1b[Kand    voxel    8x8       64     1  "));
+    CHECK(lines[3].starts_with("ratio classic/voxel, and 8x8: "));
 }

@@ -28,6 +28,13 @@ struct SessionDir : fortu::test::ScratchDir {
     }
 };
 
+std::vector<std::string> lines_of(const std::string& text) {
+    std::vector<std::string> lines;
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);) lines.push_back(line);
+    return lines;
+}
+
 std::vector<float> pixels(const std::string& path) {
     std::string error;
     auto image = fortu::read_image(path, error);
@@ -61,6 +68,7 @@ TEST_CASE("a scripted session: built in steps, probed, changed, saved; fortu run
         "this line is never read\n");
     CHECK(r.status == 0);
     CHECK(r.out ==
+          "size: 64x48\n"
           "value: 0.5549509756796392\n"
           "gradient: -0.7844645405527362 0\n"
           "normal: n1=0.48367098178501616 n2=0.11737271157899065 n3=0.7014307126275634 n4=-0.5101774037905854\n"
@@ -217,6 +225,7 @@ TEST_CASE("blocks over several lines, settings, and a bare expression at the pro
           "      ^\n"
           "domain: x [0, 2], y [-1, 1]\n"
           "size: 10x20\n"
+          "size: 10x20\n"
           "engine: classic\n"
           "1\n"
           "domain: x [-1, 1], y [-1, 1]\n"
@@ -278,4 +287,121 @@ TEST_CASE(":load of /dev/zero or of an INCLUDE chain thousands deep is an error,
                    "gradient: 1 1\n"
                    "normal: n1=-0.577350269189615 n2=-0.5773502691896312 n3=0.5773502691896312 n4=-3.1260162170523e-12\n"
                    "inside: yes\n");
+}
+
+TEST_CASE("a classic :render over fortu run's budget is refused before it starts, as fortu run refuses it") {
+    SessionDir d;
+    d.write("nested.fortu", fortu::test::read_file(std::string(FORTU_SOURCE_DIR) + "/examples/nested_discs.fortu"));
+    // 135,144 operations per point x 300² points = 1.2e10, over the 1e10 fortu run allows.
+    const auto r = d.repl(":load nested.fortu\n:engine classic\n:size 300\n:render big.png\n:size 10\n:time\n");
+    CHECK(r.status == 1);
+    CHECK(r.out.starts_with(
+          "loaded nested.fortu (5 statements)\n"
+          "size: 300x300\n"
+          "fortu: error: the classic engine would need 135,144 operations per point x 90,000 points = 1.22e+10 "
+          "operations (budget 1e+10)\n"
+          "note: use :engine voxel or a smaller :size\n"
+          "size: 10x10\n"
+          "last evaluation: none of this model yet (:show and :render evaluate it)\n"
+          "the whole model, nothing reused:\n"
+          "classic: 10x10 points in "));
+    CHECK_FALSE(fs::exists(d.path / "big.png"));
+    const auto run = run_fortu("run nested.fortu --engine classic --size 300 -o big.png", d.path.string());
+    CHECK(run.status == 2);
+    CHECK(run.out.find("= 1.22e+10 operations (budget 1e+10)") != std::string::npos);
+}
+
+TEST_CASE(":time after a new RETURN says there is no evaluation of it yet, then times it") {
+    SessionDir d;
+    const auto r = d.repl("ARGUMENT X, Y\nRETURN 0.5 - X\n:size 8\n:render a.npy\n:time\nRETURN 0.4 - X\n:time\n"
+                          ":render b.npy\n:time\n");
+    CHECK(r.status == 0);
+    std::istringstream lines(r.out);
+    std::vector<std::string> last;
+    for (std::string line; std::getline(lines, line);)
+        if (line.rfind("last evaluation: ", 0) == 0) last.push_back(line);
+    REQUIRE(last.size() == 3);
+    CHECK(last[0].starts_with("last evaluation: voxel engine, 8x8 points; computed 1 of 1 operations in "));
+    CHECK(last[1] == "last evaluation: none of this model yet (:show and :render evaluate it)");
+    CHECK(last[2].starts_with("last evaluation: voxel engine, 8x8 points; computed 1 of 1 operations in "));
+}
+
+TEST_CASE(":size confirms the grid; one number gives square cells on the domain, as fortu run --size") {
+    SessionDir d;
+    const auto r = d.repl("ARGUMENT X, Y, Z\nRETURN 1 - X^2/64 - Y^2/25 - Z^2/64\n:size 512\n:domain -8 8 -5 5 -8 8\n"
+                          ":size 96\n:size 20 10 5\n:size default\n:render cube.npy\n");
+    CHECK(r.status == 0);
+    // 96 nodes along X's 16 units: 16/95 per cell, so Y's 10 units take 60 cells (widened to 10.1).
+    CHECK(r.out == "size: 512x512x512\n"
+                   "size: 96x61x96\n"
+                   "size: 20x10x5\n"
+                   "size: 64x64x64\n"   // no size: 64 nodes per axis, as fortu run
+                   "wrote cube.npy (64x64x64)\n");
+    const auto run = run_fortu("run m.fortu --domain -8:8,-5:5,-8:8 --size 96 -o r.npy --stats",
+                               (d.write("m.fortu", "ARGUMENT X, Y, Z\nRETURN 1 - X^2/64 - Y^2/25 - Z^2/64\n"), d.path.string()), true);
+    CHECK(run.out.find("96x61x96") != std::string::npos);
+}
+
+TEST_CASE(":show and :render of a 3D model: a plane with --slice, a shaded view with --view, as fortu run") {
+    SessionDir d;
+    const auto r = d.repl("ARGUMENT X, Y, Z\nRETURN 0.5 - SQRT(X^2 + Y^2 + Z^2)\n:size 9\n"
+                          ":render s.png --slice x=0.25\n"
+                          ":render z.npy --slice 4\n"
+                          ":render v.png --view top\n"
+                          ":render w.png\n"
+                          ":render bad.png --slice x=3\n"
+                          ":render bad.npy --view top\n"
+                          ":show --view front --slice z=0\n"
+                          ":show --view sideways\n");
+    CHECK(r.status == 1);
+    CHECK(r.out == "size: 9x9x9\n"
+                   "wrote s.png (1x9x9, x = 0.25, y [-1, 1], z [-1, 1])\n"
+                   "wrote z.npy (9x9x1, x [-1, 1], y [-1, 1], z = 0)\n"
+                   "wrote v.png (9x9 shaded view, azimuth 0, elevation 90, y up)\n"
+                   "wrote w.png (9x9 shaded view, azimuth 45, elevation 35.264389682754654, y up)\n"
+                   "fortu: error: --slice: x=3 is outside the domain's X [-1, 1]\n"
+                   "fortu: error: :render: a shaded view is a picture; 'bad.npy' is not one\n"
+                   "fortu: error: :show: a picture is a plane (--slice) or a shaded view (--view, --up), not both\n"
+                   "fortu: error: :show: --view: 'sideways' is not top, front, side, iso or AZ,EL in degrees\n");
+    for (const char* file : {"s.png", "z.npy", "v.png", "w.png"}) CHECK(fs::exists(d.path / file));
+    // The plane x = 0.25 is the same picture fortu run --slice draws.
+    const auto run = run_fortu("run m.fortu --size 9 --slice x=0.25 -o run.png",
+                               (d.write("m.fortu", "ARGUMENT X, Y, Z\nRETURN 0.5 - SQRT(X^2 + Y^2 + Z^2)\n"), d.path.string()));
+    REQUIRE(run.status == 0);
+    CHECK(pixels((d.path / "run.png").string()) == pixels((d.path / "s.png").string()));
+
+    // In the terminal (80x24 without one): the plane z = 0 is a disc, the shaded view a ball.
+    const auto plane = d.repl("ARGUMENT X, Y, Z\nRETURN 0.5 - SQRT(X^2 + Y^2 + Z^2)\n:show --slice z=0\n");
+    const auto plane_lines = lines_of(plane.out);
+    REQUIRE(plane_lines.size() == 23);   // 44 pixel rows of a square plane: 22 lines, then the caption
+    CHECK(plane_lines[22] == "x [-1, 1], y [-1, 1], z = 0; # inside, . outside, * contour");
+    CHECK(plane_lines[0] == std::string(44, '.'));
+    CHECK(plane_lines[11].find('#') != std::string::npos);
+    const auto side = lines_of(d.repl("ARGUMENT X, Y, Z\nRETURN 0.5 - SQRT(X^2 + Y^2 + Z^2)\n:show --slice y=0\n").out);
+    REQUIRE(side.size() == 23);
+    CHECK(side[22] == "x [-1, 1], y = 0, z [-1, 1]; # inside, . outside, * contour");
+    CHECK(side[11] == plane_lines[11]);   // the same disc, across X and up Z
+    const auto ball = d.repl("ARGUMENT X, Y, Z\nRETURN 0.5 - SQRT(X^2 + Y^2 + Z^2)\n:show --view front\n:show\n");
+    const auto ball_lines = lines_of(ball.out);
+    REQUIRE(ball_lines.size() == 46);
+    CHECK(ball_lines[22] == "x [-1, 1], y [-1, 1], z [-1, 1]; shaded view, azimuth 0, elevation 0, y up; "
+                            "# surface, + cut by the domain");
+    CHECK(ball_lines[45] == "x [-1, 1], y [-1, 1], z [-1, 1]; shaded view, azimuth 45, elevation 35.264389682754654, "
+                            "y up; # surface, + cut by the domain");
+    CHECK(ball_lines[11].find('#') != std::string::npos);
+    CHECK(ball_lines[0].find('#') == std::string::npos);
+    for (std::size_t i = 0; i < ball_lines.size(); ++i)   // the ball is inside the domain: no cut face
+        if (i != 22 && i != 45) CHECK(ball_lines[i].find('+') == std::string::npos);
+}
+
+TEST_CASE("2D models take no --slice or --view; :render's file name may hold spaces") {
+    SessionDir d;
+    const auto r = d.repl("ARGUMENT X, Y\nRETURN 0.5 - X\n:size 8\n:render my picture.png\n:render a.png --slice z=0\n"
+                          ":show --up z\n:render a.png --slice\n");
+    CHECK(r.out == "size: 8x8\n"
+                   "wrote my picture.png (8x8)\n"
+                   "fortu: error: :render: --slice, --view and --up draw 3D models; this one has 2 argument(s)\n"
+                   "fortu: error: :show: --slice, --view and --up draw 3D models; this one has 2 argument(s)\n"
+                   "fortu: error: :render: --slice needs a value\n");
+    CHECK(fs::exists(d.path / "my picture.png"));
 }

@@ -121,6 +121,8 @@ struct Worker {
     std::vector<Interval> ranges;
     BoxScratch box;
     std::vector<std::unique_ptr<Tape>> tapes;    ///< one per depth
+    Tape leaf_tape;                              ///< the leaf's tape in max-live slots
+    SlotScratch slot_scratch;
     std::vector<double> lanes;
     std::vector<double*> slots;
     std::vector<Dual> dual_lanes;
@@ -206,7 +208,10 @@ public:
         }
     }
 
-    void mesh_leaf(const std::array<int, 3>& leaf, const Tape& tape, bool all_inside, Worker& w) const {
+    void mesh_leaf(const std::array<int, 3>& leaf, const Tape& ssa, bool all_inside, Worker& w) const {
+        // Lanes cost slots × points: in SSA slots a deep model would cost gigabytes a worker.
+        reallocate_slots(ssa, w.leaf_tape, w.slot_scratch);
+        const Tape& tape = w.leaf_tape;
         int c0[3], nc[3], nn[3];
         for (int a = 0; a < 3; ++a) {
             c0[a] = leaf[a] * kLeafCells;
@@ -499,9 +504,14 @@ Mesh extract_mesh(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
         parallel_for(items.size(), quiet, [&](std::size_t i, int worker) {
             auto simplified = std::make_shared<Tape>();
             bool all_inside = false;
-            if (mesher.decide(items[i].box, *items[i].tape, workers[worker], *simplified, all_inside) !=
+            if (mesher.decide(items[i].box, *items[i].tape, workers[worker], *simplified, all_inside) ==
                 Mesher::Verdict::Empty)
-                for (const Mesher::Box& child : mesher.split(items[i].box)) children[i].push_back({child, simplified});
+                return std::size_t{0};
+            // A tape the box barely shortens is not copied: the parent's serves the children
+            // too, so a model no box simplifies keeps one tape, not one per box.
+            std::shared_ptr<const Tape> tape = simplified;
+            if (simplified->code.size() * 8 > items[i].tape->code.size() * 7) tape = items[i].tape;
+            for (const Mesher::Box& child : mesher.split(items[i].box)) children[i].push_back({child, tape});
             return std::size_t{0};
         });
         std::vector<Item> next;

@@ -57,6 +57,8 @@ void parse_levels(const std::string& text, PictureStyle& style) {
                                          "-0.1,0.05,0.2)", part, text));
         levels.push_back(*v);
     }
+    if (levels.size() > 100)
+        throw UsageError(fmt::format("--levels: {} values; at most 100", levels.size()));
     style.levels = std::move(levels);
     style.level_count = 0;
 }

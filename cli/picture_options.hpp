@@ -16,8 +16,8 @@ void add_picture_style_options(OptionTable& table, PictureStyle& style);
 /// `auto`, `symmetric` or `A:B` (A < 0 < B). Throws UsageError naming --scale.
 ScaleChoice parse_scale_choice(const std::string& text);
 
-/// `N` (a whole number 1..100: N levels per side) or `v1,v2,...` (values; one value is
-/// written with a point, `2.0`). Sets style.level_count or style.levels. Throws UsageError.
+/// `N` (a whole number 1..100: N levels per side) or `v1,v2,...` (at most 100 values; one
+/// value is written with a point, `2.0`). Sets style.level_count or style.levels. Throws UsageError.
 void parse_levels(const std::string& text, PictureStyle& style);
 
 /// `style` with the legend's axis names and plane for the picture of `field` as `fortu run`

@@ -50,6 +50,9 @@ TEST_CASE("--scale and --levels: values parsed, mistakes named") {
     parse_levels("2.0", style);
     CHECK(style.levels == std::vector<double>{2.0});
     CHECK_THROWS_WITH_AS(parse_levels("0", style), "--levels: '0' levels per side is not from 1 to 100", UsageError);
+    std::string many = "0.5";
+    for (int i = 0; i < 100; ++i) many += ",0.5";
+    CHECK_THROWS_WITH_AS(parse_levels(many, style), "--levels: 101 values; at most 100", UsageError);
     CHECK_THROWS_WITH_AS(parse_levels("0.1,,0.2", style),
                          "--levels: '' is not a number in '0.1,,0.2' (use N, or values such as -0.1,0.05,0.2)",
                          UsageError);

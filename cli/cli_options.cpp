@@ -6,6 +6,7 @@
 
 #include "cli/fv_options.hpp"
 #include "cli/option_table.hpp"
+#include "cli/picture_options.hpp"
 
 #include "runtime/grid.hpp"
 #include "runtime/output.hpp"
@@ -169,6 +170,7 @@ void add_picture_options(OptionTable& t, CliOptions& o) {
                  else if (v == "z" || v == "Z") o.view.up = 2;
                  else throw UsageError(fmt::format("--up: '{}' is not x, y or z", v));
              });
+    add_picture_style_options(t, o.picture);
 }
 
 void add_run_outputs(OptionTable& t, CliOptions& o) {

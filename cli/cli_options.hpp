@@ -11,6 +11,7 @@
 #include "interp/model.hpp"
 #include "interp/shaded_view.hpp"
 #include "interp/stage_print.hpp"
+#include "runtime/output_options.hpp"
 
 #include <array>
 #include <optional>
@@ -37,6 +38,7 @@ struct CliOptions {
     std::string contour;                       ///< --contour
     std::optional<SliceChoice> slice;          ///< --slice: one plane of a 3D model (run_grid.hpp)
     ViewDirection view{45, 35.264389682754654}; ///< --view: the shaded view of a 3D picture (default iso)
+    PictureStyle picture;                      ///< --scale, --levels, --legend (cli/picture_options.hpp)
     bool stats = false;
     bool force = false;
     double budget = 1e10;                      ///< classic operations per run before refusing (~1 min here)

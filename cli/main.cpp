@@ -11,6 +11,7 @@
 #include "cli/model_setup.hpp"
 #include "cli/point_report.hpp"
 #include "cli/run_checks.hpp"
+#include "cli/picture_options.hpp"
 #include "cli/run_grid.hpp"
 
 #include "grammar/diagnostic.hpp"
@@ -145,6 +146,7 @@ int command_singular(const CliOptions& o) {
                                  c.point[0], c.point[1], c.cells);
     if (!o.output.empty()) {
         OutputOptions out;
+        out.picture = o.picture;
         if (o.slice && grid.dims == 3) out.slice = z_slice_number(grid, *o.slice);
         const Field field = evaluate_grid(*model, grid, default_engine());
         const int slice = grid.dims == 3 ? (o.slice ? out.slice : grid.slices() / 2) : 0;
@@ -192,6 +194,10 @@ int command_run(const CliOptions& o) {
     std::optional<Model> model = load_model(o, false, compile_seconds);
     if (!model) return kExitModelError;
     if (wants_shaded_view(*model, o)) {
+        if (o.picture.legend || o.picture.level_count > 0 || !o.picture.levels.empty() ||
+            o.picture.scale.mode != ScaleChoice::Mode::Auto)
+            throw UsageError("--legend, --levels and --scale colour a plane by its values; a 3D picture without "
+                             "--slice is a shaded view of the solid (add --slice z=V)");
         // The view needs no grid; --mimages and --contour still draw the cube's middle slice.
         CliOptions rest = o;
         rest.output.clear();
@@ -239,6 +245,7 @@ int command_run(const CliOptions& o) {
     out.npy_float32 = o.float32;
     out.vdb_band = o.vdb_band;
     out.npy_sidecar = true;
+    out.picture = plane_picture_style(field, o.picture);
     try {
         // Pictures of an x or y plane show it with Z up; values files keep the grid's axes.
         const bool picture = !o.output.empty() && output_format_for(o.output)->kind != OutputKind::Field;

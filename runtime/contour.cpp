@@ -140,31 +140,38 @@ private:
     std::vector<std::pair<std::int64_t, std::int64_t>> segments_;
 };
 
+// Pixel coordinates of the picture fortu writes for the same grid: node (c, r) is the centre
+// of pixel (c, r), so the contour lies over the PNG's contour pixels. Pixel units (not world
+// units with vector-effect="non-scaling-stroke", which librsvg ignores) keep the stroke 1.5 px
+// in every renderer; the world box goes into <metadata>.
 void write_svg(const Field& field, int slice, const std::string& path) {
     const Grid& g = field.grid;
     const std::vector<Polyline> lines = zero_contour(field, slice);
-    const double width = std::max(g.x.max - g.x.min, 1e-300), height = std::max(g.y.max - g.y.min, 1e-300);
-    const double longer = std::max(width, height);
-    const double px_w = std::max(1.0, std::round(800.0 * width / longer));
-    const double px_h = std::max(1.0, std::round(800.0 * height / longer));
+    const int cols = g.cols(), rows = g.rows();
+    const double hx = g.x.step() > 0 ? g.x.step() : 1.0, hy = g.y.step() > 0 ? g.y.step() : 1.0;
+    auto pixel_x = [&](double x) { return (x - g.x.min) / hx + 0.5; };
+    auto pixel_y = [&](double y) { return (g.y.max - y) / hy + 0.5; };
     fmt::memory_buffer out;
     auto put = [&out]<typename... Args>(fmt::format_string<Args...> text, Args&&... args) {
         fmt::format_to(std::back_inserter(out), text, std::forward<Args>(args)...);
     };
     put("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
-    put("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}\" height=\"{}\" viewBox=\"{} {} {} {}\">\n",
-        px_w, px_h, g.x.min, -g.y.max, width, height);
-    put("<!-- fortu zero contour: world coordinates, Y up through the transform; {} polylines",
-        lines.size());
-    if (g.dims == 3) put("; slice {} at z = {}", slice, g.z_at(slice));
-    put(" -->\n");
-    put("<g transform=\"scale(1,-1)\" fill=\"none\" stroke=\"black\" stroke-width=\"1.5\" "
-        "stroke-linejoin=\"round\" vector-effect=\"non-scaling-stroke\">\n");
+    put("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}\" height=\"{}\" viewBox=\"0 0 {} {}\">\n", cols,
+        rows, cols, rows);
+    put("<!-- fortu zero contour: {} polylines in pixels of the {}x{} picture (pixel centre = grid node; "
+        "x = x0 + (px - 0.5) * dx, y = y1 - (py - 0.5) * dy) -->\n",
+        lines.size(), cols, rows);
+    put("<metadata><fortu-domain xmlns=\"urn:fortu:domain\" x0=\"{}\" x1=\"{}\" y0=\"{}\" y1=\"{}\" "
+        "dx=\"{}\" dy=\"{}\"",
+        g.x.min, g.x.max, g.y.min, g.y.max, hx, hy);
+    if (g.dims == 3) put(" slice=\"{}\" z=\"{}\"", slice, g.z_at(slice));
+    put("/></metadata>\n");
+    put("<g fill=\"none\" stroke=\"black\" stroke-width=\"1.5\" stroke-linejoin=\"round\" stroke-linecap=\"round\">\n");
     for (const Polyline& line : lines) {
-        put("<polyline vector-effect=\"non-scaling-stroke\" points=\"");
+        put("<polyline points=\"");
         for (std::size_t i = 0; i < line.points.size(); ++i)
-            put("{}{},{}", i ? " " : "", line.points[i][0], line.points[i][1]);
-        if (line.closed) put(" {},{}", line.points[0][0], line.points[0][1]);
+            put("{}{:.3f},{:.3f}", i ? " " : "", pixel_x(line.points[i][0]), pixel_y(line.points[i][1]));
+        if (line.closed) put(" {:.3f},{:.3f}", pixel_x(line.points[0][0]), pixel_y(line.points[0][1]));
         put("\"/>\n");
     }
     put("</g>\n</svg>\n");

@@ -28,9 +28,10 @@ struct Polyline {
 std::vector<Polyline> zero_contour(const Field& field, int slice = 0);
 
 /// Writes the zero contour as SVG: one <polyline> per chain (a closed chain repeats its first
-/// point), in world coordinates under a `scale(1,-1)` transform so Y points up, the viewBox
-/// being the domain, with a non-scaling 1.5 px black stroke. 3D: the slice options.slice
-/// (middle by default), or every slice for a series target. Throws OutputError.
+/// point) in the pixel coordinates of the picture of the same grid (viewBox = cols x rows,
+/// node (c, r) at pixel centre (c + 0.5, r + 0.5)), with a 1.5 px black stroke, so every
+/// renderer draws it alike; the world box (and a 3D slice's z) is kept in <metadata>. 3D: the
+/// slice options.slice (middle by default), or every slice for a series target. Throws OutputError.
 void write_contour_svg(const Field& field, const OutputTarget& target, const OutputOptions& options);
 
 }  // namespace fortu

@@ -4,6 +4,8 @@
 #include "runtime/atomic_file.hpp"
 #include "runtime/oiio_util.hpp"
 #include "runtime/output_error.hpp"
+#include "runtime/output_path.hpp"
+#include "runtime/png_writer.hpp"
 
 #include <dlfcn.h>
 #include <filesystem>
@@ -78,6 +80,16 @@ const ImageModule* image_module(std::string& error) {
 }
 
 void write_image_file(const std::string& path, const std::vector<ImageLayer>& layers) {
+    // An 8-bit PNG, the common case, through libpng without loading the module (png_writer.hpp).
+    if (layers.size() == 1 && !layers[0].is_float && path_extension(path) == "png") {
+        const ImageLayer& layer = layers[0];
+        std::vector<unsigned char> bytes;
+        const std::string error = encode_png(layer.cols, layer.rows, static_cast<int>(layer.channels.size()),
+                                             static_cast<const std::uint8_t*>(layer.pixels), bytes);
+        if (!error.empty()) throw OutputError(path, error);
+        write_file_atomically(path, [&](OutputFile& file) { file.write(bytes.data(), bytes.size()); });
+        return;
+    }
     const Loaded& m = module();
     if (!m.module) throw OutputError(path, m.error);
     if (layers.size() > 1) {

@@ -38,7 +38,8 @@ struct ImageData {
 };
 
 /// Writes `layers` to `path` (the format follows its extension; several layers make a
-/// multi-part file). OpenImageIO encodes one layer into memory and the bytes go through
+/// multi-part file). One 8-bit layer to .png is encoded by libpng (png_writer.hpp) without
+/// loading the module; otherwise OpenImageIO encodes one layer into memory and the bytes go through
 /// write_file_atomically(), so every write is checked (libpng does not report a full disk);
 /// a multi-part EXR is written by OpenEXR, which checks its writes, through
 /// write_atomically(). Throws OutputError.

@@ -2,6 +2,7 @@
 #include "runtime/picture.hpp"
 
 #include "runtime/output_path.hpp"
+#include "runtime/picture_legend.hpp"
 #include "runtime/output_error.hpp"
 
 #include "runtime/image_io.hpp"
@@ -38,11 +39,13 @@ std::span<const double> slice_values(const Field& field, int slice) {
 
 void write_one_slice(const Field& field, int slice, const ColourScale& scale, const std::string& path,
                      const OutputOptions& options) {
-    const std::vector<Rgb8> pixels = render_slice(field, slice, scale, options);
+    Picture picture{field.grid.cols(), field.grid.rows(), render_slice(field, slice, scale, options)};
+    if (options.picture.legend)
+        picture = add_legend(picture, field.grid, slice, scale, picture_levels(scale, options.picture), options.picture);
     static_assert(sizeof(Rgb8) == 3);
-    const auto* bytes = reinterpret_cast<const std::uint8_t*>(pixels.data());
-    write_image_8bit(path, field.grid.cols(), field.grid.rows(), 3,
-                     std::span<const std::uint8_t>(bytes, pixels.size() * 3), options);
+    const auto* bytes = reinterpret_cast<const std::uint8_t*>(picture.pixels.data());
+    write_image_8bit(path, picture.cols, picture.rows, 3,
+                     std::span<const std::uint8_t>(bytes, picture.pixels.size() * 3), options);
 }
 
 }  // namespace
@@ -57,6 +60,33 @@ ColourScale colour_scale(std::span<const double> values) {
     const double in = percentile_99(inside), out = percentile_99(outside);
     const double fallback = in > 0.0 ? in : (out > 0.0 ? out : 1.0);
     return {in > 0.0 ? in : fallback, out > 0.0 ? out : fallback};
+}
+
+ColourScale picture_colour_scale(std::span<const double> values, const ScaleChoice& choice) {
+    switch (choice.mode) {
+        case ScaleChoice::Mode::Auto: return colour_scale(values);
+        case ScaleChoice::Mode::Fixed: return {choice.high, -choice.low};
+        case ScaleChoice::Mode::Symmetric: break;
+    }
+    const std::size_t stride = std::max<std::size_t>(1, values.size() / kScaleSample);
+    std::vector<double> magnitudes;
+    for (std::size_t i = 0; i < values.size(); i += stride)
+        if (values[i] != 0.0 && std::isfinite(values[i])) magnitudes.push_back(std::abs(values[i]));
+    const double both = percentile_99(magnitudes);
+    return {both > 0.0 ? both : 1.0, both > 0.0 ? both : 1.0};
+}
+
+std::vector<double> picture_levels(const ColourScale& scale, const PictureStyle& style) {
+    std::vector<double> levels;
+    if (!style.levels.empty()) {
+        for (double v : style.levels)
+            if (v != 0.0) levels.push_back(v);
+    } else {
+        for (int k = 1; k <= style.level_count; ++k) levels.push_back(-scale.outside * k / style.level_count);
+        for (int k = 1; k <= style.level_count; ++k) levels.push_back(scale.inside * k / style.level_count);
+    }
+    std::sort(levels.begin(), levels.end());
+    return levels;
 }
 
 Rgb8 value_colour(double value, const ColourScale& scale, int bands) {
@@ -102,20 +132,27 @@ std::vector<Rgb8> render_slice(const Field& field, int slice, const ColourScale&
     const Grid& g = field.grid;
     const std::span<const double> v = slice_values(field, slice);
     const int cols = g.cols(), rows = g.rows();
+    const std::vector<double> levels = picture_levels(scale, options.picture);
     std::vector<Rgb8> pixels(v.size());
     for (int r = 0; r < rows; ++r)
         for (int c = 0; c < cols; ++c) {
             const std::size_t i = static_cast<std::size_t>(r) * cols + c;
             pixels[i] = value_colour(v[i], scale, options.bands);
-            if (!options.draw_contour || !std::isfinite(v[i])) continue;
-            bool contour = v[i] == 0.0;
-            auto crosses = [&](int cc, int rr) {
-                if (cc < 0 || cc >= cols || rr < 0 || rr >= rows) return false;
-                const double w = v[static_cast<std::size_t>(rr) * cols + cc];
-                return std::isfinite(w) && sign_of(w) == -sign_of(v[i]) && std::abs(w) >= std::abs(v[i]);
+            if (!std::isfinite(v[i])) continue;
+            // On the level set of `level`: exactly there, or the nearer side of a sign change.
+            auto on_level = [&](double level) {
+                const double here = v[i] - level;
+                if (here == 0.0) return true;
+                auto crosses = [&](int cc, int rr) {
+                    if (cc < 0 || cc >= cols || rr < 0 || rr >= rows) return false;
+                    const double w = v[static_cast<std::size_t>(rr) * cols + cc] - level;
+                    return std::isfinite(w) && sign_of(w) == -sign_of(here) && std::abs(w) >= std::abs(here);
+                };
+                return crosses(c - 1, r) || crosses(c + 1, r) || crosses(c, r - 1) || crosses(c, r + 1);
             };
-            contour = contour || crosses(c - 1, r) || crosses(c + 1, r) || crosses(c, r - 1) || crosses(c, r + 1);
-            if (contour) pixels[i] = kContourColour;
+            for (double level : levels)
+                if (on_level(level)) pixels[i] = kLevelColour;
+            if (options.draw_contour && on_level(0.0)) pixels[i] = kContourColour;
         }
     draw_markers(g, options.markers, cols, rows, pixels);
     return pixels;
@@ -141,14 +178,15 @@ void write_image_8bit(const std::string& path, int cols, int rows, int channels,
 void write_picture(const Field& field, const OutputTarget& target, const OutputOptions& options) {
     const Grid& g = field.grid;
     if (g.dims == 3 && target.series) {
-        const ColourScale scale = colour_scale(field.values);
+        const ColourScale scale = picture_colour_scale(field.values, options.picture.scale);
         for (int s = 0; s < g.slices(); ++s) write_one_slice(field, s, scale, target.file(s), options);
         return;
     }
     const int slice = picture_slice(g, options.slice);
     if (slice < 0)
         throw OutputError(target.path, fmt::format("slice {} is out of range 0..{}", options.slice, g.slices() - 1));
-    write_one_slice(field, slice, colour_scale(slice_values(field, slice)), target.file(slice), options);
+    write_one_slice(field, slice, picture_colour_scale(slice_values(field, slice), options.picture.scale),
+                    target.file(slice), options);
 }
 
 }  // namespace fortu

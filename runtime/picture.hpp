@@ -21,6 +21,8 @@ struct Rgb8 {
 
 /// Zero-contour pixels.
 inline constexpr Rgb8 kContourColour{0, 0, 0};
+/// Iso-lines other than zero (`--levels`): grey, so the zero contour stays the black one.
+inline constexpr Rgb8 kLevelColour{110, 110, 110};
 /// Invalid points (non-finite values, fortu-language.md §2): a colour no value maps to.
 inline constexpr Rgb8 kInvalidColour{255, 0, 255};
 /// Inside (value > 0): cream at the contour, deep orange at |value| ≥ scale.
@@ -42,6 +44,16 @@ struct ColourScale {
 /// are sampled (about a million values).
 ColourScale colour_scale(std::span<const double> values);
 
+/// The colour scale a picture uses for `values` under `choice`: Auto is colour_scale(); Symmetric
+/// the 99th percentile of |v| over all finite non-zero values, on both sides; Fixed the given
+/// ends (outside = −low, inside = high).
+ColourScale picture_colour_scale(std::span<const double> values, const ScaleChoice& choice);
+
+/// The iso-levels drawn besides zero: style.levels, or style.level_count per side at
+/// k/count of that side's scale (k = 1..count, so the last is where the colour saturates),
+/// inside first, ascending; zero is left out.
+std::vector<double> picture_levels(const ColourScale& scale, const PictureStyle& style);
+
 /// The colour of one value: the near colour blended towards the far one by min(|v|/scale, 1),
 /// optionally darkened in `bands` stripes per scale unit; 0 counts as inside and a non-finite
 /// value is kInvalidColour. (The contour is drawn by render_slice.)
@@ -53,7 +65,9 @@ int picture_slice(const Grid& grid, int requested);
 
 /// One slice drawn as rows()×cols() pixels in image order. A pixel is on the zero contour if
 /// its value is 0, or if a 4-neighbour has the opposite sign and a magnitude at least as
-/// large (so the line runs on the side nearer to the true zero, one pixel wide).
+/// large (so the line runs on the side nearer to the true zero, one pixel wide). The levels of
+/// picture_levels(scale, options.picture) are drawn by the same rule on value − level, in
+/// kLevelColour, under the zero contour. (The legend is added by write_picture.)
 std::vector<Rgb8> render_slice(const Field& field, int slice, const ColourScale& scale,
                                const OutputOptions& options);
 

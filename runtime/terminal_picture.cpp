@@ -45,7 +45,7 @@ std::string terminal_picture(const Field& field, int slice, bool colour, const O
     const int cols = g.cols(), rows = g.rows();
     const std::size_t per_slice = static_cast<std::size_t>(cols) * rows;
     const std::span<const double> values(field.values.data() + per_slice * slice, per_slice);
-    const std::vector<Rgb8> pixels = render_slice(field, slice, colour_scale(values), options);
+    const std::vector<Rgb8> pixels = render_slice(field, slice, picture_colour_scale(values, options.picture.scale), options);
     auto at = [&](int r, int c) { return static_cast<std::size_t>(r) * cols + c; };
 
     std::string out;

@@ -159,7 +159,7 @@ TEST_CASE("a corrupted or wrong-sized reference image fails with a clear message
         const auto r = t.golden("disc.fortu");
         CHECK(r.status == 1);
         CHECK(r.out == "FAIL disc.fortu: disc.expected.png (both engines): cannot be compared: "
-                       "'disc.expected.png' is cut short: its IDAT chunk at byte 80 needs 369 bytes, the file ends "
+                       "'disc.expected.png' is cut short: its IDAT chunk at byte 46 needs 413 bytes, the file ends "
                        "at 300\n"
                        "    new output: disc.actual.png\n"
                        "1 test: 0 passed, 1 failed\n");
@@ -170,7 +170,7 @@ TEST_CASE("a corrupted or wrong-sized reference image fails with a clear message
         t.write("disc.expected.png", png);
         CHECK(t.golden("disc.fortu").out ==
               "FAIL disc.fortu: disc.expected.png (both engines): cannot be compared: 'disc.expected.png' is "
-              "damaged: its IDAT chunk at byte 80 fails its CRC\n"
+              "damaged: its IDAT chunk at byte 46 fails its CRC\n"
               "    new output: disc.actual.png\n"
               "1 test: 0 passed, 1 failed\n");
     }
@@ -218,12 +218,13 @@ TEST_CASE("values: npy, csv and svg references compared with the stated toleranc
           "    actual:   -1,1,-1.73\n"
           "    new output: v.actual.csv\n"
           // The contour ran through grid nodes (value exactly 0) and now cuts the edges beside them.
-          "  v.expected.svg (both engines): 9 of 31 numbers differ by more than 0.01; worst on line 5: expected "
-          "0, got 0.020000000000000018\n"
-          "    expected: <polyline vector-effect=\"non-scaling-stroke\" points=\"-0.5,0 -0.5,0 -0.5,0 0,-0.25 0.5,0 "
-          "0.5,0 0.5,0 0,0.25 -0.5,0\"/>\n"
-          "    actual:   <polyline vector-effect=\"non-scaling-stroke\" points=\"-0.5,0.020000000000000018 "
-          "-0.5133333333333334,0 -0.5,-0.02000000...\n"
+          // (in pixels of the 5x3 picture: 0.027 px is 0.0133 in X)
+          "  v.expected.svg (both engines): 9 of 38 numbers differ by more than 0.01; worst on line 6: expected "
+          "3.5, got 3.527\n"
+          "    expected: <polyline points=\"1.500,1.500 1.500,1.500 1.500,1.500 2.500,1.750 3.500,1.500 3.500,1.500 "
+          "3.500,1.500 2.500,1.250 1.5...\n"
+          "    actual:   <polyline points=\"1.500,1.480 1.473,1.500 1.500,1.520 2.500,1.770 3.500,1.520 3.527,1.500 "
+          "3.500,1.480 2.500,1.230 1.5...\n"
           "    new output: v.actual.svg\n"
           "1 test: 0 passed, 1 failed\n");
     CHECK(t.has("v.values-diff.png"));

@@ -329,7 +329,7 @@ TEST_CASE("zero contour: two circles, and a hole of invalid points") {
     CHECK(open == 2);
 }
 
-TEST_CASE("svg: header with a viewBox of the domain, one polyline per chain") {
+TEST_CASE("svg: header with a viewBox of the picture's pixels, one polyline per chain") {
     Field f = sample2(21, 21, [](double x, double y) { return 0.25 - x * x - y * y; });
     f.grid.x = {-2.0, 2.0, 21};
     ScratchDir dir;
@@ -337,7 +337,9 @@ TEST_CASE("svg: header with a viewBox of the domain, one polyline per chain") {
     const auto lines = read_lines(dir / "c.svg");
     REQUIRE(lines.size() >= 5);
     CHECK(lines[0] == "<?xml version=\"1.0\" encoding=\"UTF-8\"?>");
-    CHECK(lines[1] == "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"800\" height=\"400\" viewBox=\"-2 -1 4 2\">");
+    CHECK(lines[1] == "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"21\" height=\"21\" viewBox=\"0 0 21 21\">");
+    CHECK(lines[3] == "<metadata><fortu-domain xmlns=\"urn:fortu:domain\" x0=\"-2\" x1=\"2\" y0=\"-1\" y1=\"1\" "
+                      "dx=\"0.2\" dy=\"0.1\"/></metadata>");
     int polylines = 0;
     for (const auto& l : lines) polylines += l.starts_with("<polyline");
     CHECK(polylines == 1);

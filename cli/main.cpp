@@ -21,6 +21,7 @@
 #include "interp/sign_render.hpp"
 #include "interp/singular.hpp"
 #include "interp/vector_math.hpp"
+#include "interp/voxel_engine.hpp"
 #include "interp/vm_import.hpp"
 #include "runtime/field_stats.hpp"
 #include "runtime/fv_model.hpp"
@@ -38,17 +39,6 @@
 
 namespace fortu {
 namespace {
-
-/// The instruction set the build compiled the lane loops for (-march; CMakeLists.txt).
-const char* lane_loop_isa() {
-#if defined(__AVX512F__)
-    return "AVX-512";
-#elif defined(__AVX2__)
-    return "AVX2";
-#else
-    return "SSE2";
-#endif
-}
 
 constexpr int kExitModelError = 1;
 constexpr int kExitUsage = 2;

@@ -19,7 +19,10 @@
 #include "interp/engine.hpp"
 #include "interp/ir_print.hpp"
 #include "interp/lower.hpp"
+#include "interp/sign_render.hpp"
 #include "interp/singular.hpp"
+#include "interp/vector_math.hpp"
+#include "interp/voxel_engine.hpp"
 #include "interp/vm_import.hpp"
 #include "runtime/field_stats.hpp"
 #include "runtime/fv_model.hpp"
@@ -231,12 +234,20 @@ int command_run(const CliOptions& o) {
         eval.on_step = [&steps](const EvalStep& step) { (*steps)(step); };
     }
     Stopwatch clock;
-    Field field = evaluate_grid(*model, grid, *engine, eval);
+    // A 3D sign volume stays int8 (SignVolume); float64 only if a file or a comparison needs values.
+    std::optional<SignVolume> signs;
+    Field field;
+    if (grid.dims == 3 && eval.steps.empty() && dynamic_cast<const SignEngine*>(engine.get()))
+        signs = sign_render_volume(model->graph, model->root, grid, eval);
+    else
+        field = evaluate_grid(*model, grid, *engine, eval);
     const double eval_seconds = clock.seconds();
     const std::size_t eval_peak = peak_rss_bytes();  // before any image writer loads OpenImageIO
     progress.finish();
 
-    const FieldStats stats = field_stats(field);
+    const FieldStats stats = signs ? signs->stats() : field_stats(field);
+    if (signs && (!o.output.empty() || !o.mimages.empty() || !o.contour.empty() || o.compare))
+        field = signs->expanded();
     if (stats.invalid > 0)
         std::cerr << fmt::format("fortu: note: {} invalid point{} (non-finite values)\n", stats.invalid,
                                  stats.invalid == 1 ? "" : "s");
@@ -279,6 +290,7 @@ int command_run(const CliOptions& o) {
             "nodes: {} ({} operations), shared: {}, hash-consing reuses: {}\n"
             "classic cost: {} operations per point; voxel: {}{}\n"
             "engine: {}{}, threads: {}\n"
+            "isa: lane loops {}, float32 transcendentals {} (SLEEF)\n"
             "time: compile {:.3f} s, evaluate {:.3f} s, write {:.3f} s\n"
             "speed: {} points/s\n"
             "values: min {}, max {}, inside {}, boundary {}, outside {}, invalid {}\n"
@@ -289,6 +301,7 @@ int command_run(const CliOptions& o) {
             format_operations(double(s.operations)),
             can.hoists ? hoisted_text(s) : "", engine->name(),
             can.sign_only ? " (interval sign renderer)" : can.float32 ? " (float32)" : "", o.threads > 0 ? o.threads : int(std::max(1u, std::thread::hardware_concurrency())),
+            lane_loop_isa(), vector_math::isa_name(vector_math::active_isa()),
             compile_seconds, eval_seconds, write_seconds,
             format_operations(eval_seconds > 0 ? double(grid.points()) / eval_seconds : 0.0),
             stats.min, stats.max, stats.positive, stats.zero, stats.negative, stats.invalid,

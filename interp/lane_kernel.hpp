@@ -5,8 +5,10 @@
 
 #include "interp/ir/kernels.hpp"
 #include "interp/tape.hpp"
+#include "interp/vector_math.hpp"
 
 #include <cstddef>
+#include <type_traits>
 
 namespace fortu {
 
@@ -16,7 +18,7 @@ namespace fortu {
 /// handling); an operand that is a constant is read from a register, one loop per
 /// combination that occurs after constant folding (none, the first or the second operand
 /// constant). Every instruction's output slot differs from its operands' (tape.hpp), so
-/// the lane arrays are `restrict`.
+/// the lane arrays are `restrict`. float32 transcendentals go to vector_math.hpp.
 template <class T, int kFixedLanes>
 void run_lanes(const Instruction* code, std::size_t count, T* const* slots, int runtime_lanes) {
     using namespace ir;  // kernel names are used unqualified inside ops.def expressions
@@ -31,6 +33,12 @@ void run_lanes(const Instruction* code, std::size_t count, T* const* slots, int 
         [[maybe_unused]] const T kb = T(ins->constant[1]);
         [[maybe_unused]] const T kc = T(ins->constant[2]);
         const unsigned mask = ins->constant_operands;
+        // float32 transcendentals: SLEEF's vectors instead of libm once per lane.
+        if constexpr (std::is_same_v<T, float>) {
+            if (vector_math::has_vector_kernel(ins->op) &&
+                vector_math::run_float(ins->op, A, B, ka, kb, mask, out, lanes))
+                continue;
+        }
         switch (ins->op) {
 #define FORTU_LANES(expr, a_value, b_value, c_value)                       \
     for (int l = 0; l < lanes; ++l) {                                      \

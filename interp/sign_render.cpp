@@ -16,6 +16,7 @@
 #include <optional>
 #include <stdexcept>
 #include <thread>
+#include <type_traits>
 #include <vector>
 
 namespace fortu {
@@ -45,9 +46,18 @@ struct Scratch {
     std::vector<std::unique_ptr<Tape>> tapes;  ///< one per recursion depth
 };
 
+/// A sign as stored: a float64 value (a Field) or an int8 (a SignVolume).
+template <class Value>
+Value stored_sign(double sign) {
+    if constexpr (std::is_same_v<Value, double>) return sign;
+    else return sign != sign ? SignVolume::kNaN : static_cast<int8_t>(sign);
+}
+
+template <class Value>
 class Renderer {
 public:
-    Renderer(const Grid& grid, Field& field, int leaf_extent) : grid_(grid), field_(field), leaf_extent_(leaf_extent) {}
+    Renderer(const Grid& grid, std::vector<Value>& signs, int leaf_extent)
+        : grid_(grid), signs_(signs), leaf_extent_(leaf_extent) {}
 
     /// Evaluates the box's intervals: the sign of the whole box when they decide it;
     /// otherwise simplifies `tape` into `simplified` and returns nullopt.
@@ -130,7 +140,7 @@ public:
         for (int k = box.lo[2]; k <= box.hi[2]; ++k)
             for (int j = box.lo[1]; j <= box.hi[1]; ++j)
                 for (int c = box.lo[0]; c <= box.hi[0]; ++c, ++l)
-                    field_.values[grid_.index(c, j, k)] = ir::k_sign(result[l]);
+                    signs_[grid_.index(c, j, k)] = stored_sign<Value>(ir::k_sign(result[l]));
         st.leaf_points += n;
         st.leaf_operations += std::size_t(n) * tape.code.size();
     }
@@ -138,8 +148,8 @@ public:
     void fill(const Box& box, double sign) {
         for (int k = box.lo[2]; k <= box.hi[2]; ++k)
             for (int j = box.lo[1]; j <= box.hi[1]; ++j) {
-                double* row = field_.values.data() + grid_.index(box.lo[0], j, k);
-                std::fill_n(row, box.hi[0] - box.lo[0] + 1, sign);
+                Value* row = signs_.data() + grid_.index(box.lo[0], j, k);
+                std::fill_n(row, box.hi[0] - box.lo[0] + 1, stored_sign<Value>(sign));
             }
     }
 
@@ -151,27 +161,25 @@ private:
     }
 
     const Grid& grid_;
-    Field& field_;
+    std::vector<Value>& signs_;
     int leaf_extent_;
 };
 
-}  // namespace
-
-Field sign_render(const ir::Graph& graph, ir::NodeId root, const Grid& grid, const EvalOptions& options,
-                  SignRenderStats* stats) {
-    Field field;
-    field.grid = grid;
+/// The render into `signs` (grid.points() of them, allocated here).
+template <class Value>
+void render_signs(const ir::Graph& graph, ir::NodeId root, const Grid& grid, const EvalOptions& options,
+                  SignRenderStats* stats, std::vector<Value>& signs) {
     // Allocating the result (page faults: ~3 ms for 1024²) runs on its own thread while
     // the first levels of the tree only decide boxes; their fills wait for it.
     std::exception_ptr allocation_failure;
     std::jthread allocation([&] {  // joined on any exit, so an exception cannot leave it running
         try {
-            field.values.assign(grid.points(), std::nan(""));
+            signs.assign(grid.points(), stored_sign<Value>(std::nan("")));
         } catch (...) {
             allocation_failure = std::current_exception();
         }
     });
-    Renderer renderer(grid, field, grid.slices() > 1 ? 4 : 16);
+    Renderer<Value> renderer(grid, signs, grid.slices() > 1 ? 4 : 16);
     const int threads = resolve_threads(options.threads);
     std::vector<Scratch> scratch(threads);
     std::vector<SignRenderStats> worker_stats(threads);
@@ -204,7 +212,7 @@ Field sign_render(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
             auto simplified = std::make_shared<Tape>();
             signs[i] = renderer.decide(item.box, *item.tape, scratch[worker], *simplified, worker_stats[worker]);
             if (!signs[i])
-                for (const Box& child : Renderer::split(item.box)) children[i].push_back({child, simplified});
+                for (const Box& child : Renderer<Value>::split(item.box)) children[i].push_back({child, simplified});
             return std::size_t{0};
         });
         std::vector<Item> next;
@@ -240,7 +248,50 @@ Field sign_render(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
         }
         *stats = total;
     }
+}
+
+}  // namespace
+
+Field sign_render(const ir::Graph& graph, ir::NodeId root, const Grid& grid, const EvalOptions& options,
+                  SignRenderStats* stats) {
+    Field field;
+    field.grid = grid;
+    render_signs(graph, root, grid, options, stats, field.values);
     return field;
+}
+
+SignVolume sign_render_volume(const ir::Graph& graph, ir::NodeId root, const Grid& grid, const EvalOptions& options,
+                              SignRenderStats* stats) {
+    SignVolume volume;
+    volume.grid = grid;
+    render_signs(graph, root, grid, options, stats, volume.signs);
+    return volume;
+}
+
+Field SignVolume::expanded() const {
+    Field field;
+    field.grid = grid;
+    field.values.resize(signs.size());
+    for (std::size_t i = 0; i < signs.size(); ++i) field.values[i] = signs[i] == kNaN ? std::nan("") : signs[i];
+    return field;
+}
+
+FieldStats SignVolume::stats() const {
+    FieldStats s;
+    s.points = signs.size();
+    for (int8_t v : signs) {
+        s.invalid += v == kNaN;
+        s.positive += v > 0;
+        s.zero += v == 0;
+        s.negative += v < 0 && v != kNaN;
+    }
+    const std::size_t finite = s.points - s.invalid;
+    if (finite > 0) {
+        s.min = s.negative > 0 ? -1.0 : s.zero > 0 ? 0.0 : 1.0;
+        s.max = s.positive > 0 ? 1.0 : s.zero > 0 ? 0.0 : -1.0;
+        s.mean = (double(s.positive) - double(s.negative)) / double(finite);
+    }
+    return s;
 }
 
 Field SignEngine::evaluate_grid(const ir::Graph& graph, ir::NodeId root, const Grid& grid, const EvalOptions& options,

@@ -14,9 +14,12 @@
 #include "interp/engine.hpp"
 #include "interp/ir/ir.hpp"
 #include "runtime/field.hpp"
+#include "runtime/field_stats.hpp"
 #include "runtime/grid.hpp"
 
 #include <cstddef>
+#include <cstdint>
+#include <vector>
 
 namespace fortu {
 
@@ -36,6 +39,22 @@ struct SignRenderStats {
 /// pruned renderer gives that operand's sign, as sign(a & b) = sign(min(a, b)) says.
 Field sign_render(const ir::Graph& graph, ir::NodeId root, const Grid& grid, const EvalOptions& options = {},
                   SignRenderStats* stats = nullptr);
+
+/// The signs of a grid kept as one int8 per node (1, 0, -1, kNaN), 8 times less memory than
+/// a Field: how `fortu run --sign-only` keeps 3D volumes (256³: 16 MiB, not 128 MiB, and
+/// 8 times fewer page faults), expanded to float64 only when a values file is written.
+struct SignVolume {
+    static constexpr int8_t kNaN = -128;
+    Grid grid;
+    std::vector<int8_t> signs;   ///< grid.points() signs in image order
+
+    Field expanded() const;      ///< as float64 values (NaN for kNaN)
+    FieldStats stats() const;    ///< equals field_stats(expanded())
+};
+
+/// sign_render into a SignVolume: the same signs, point for point.
+SignVolume sign_render_volume(const ir::Graph& graph, ir::NodeId root, const Grid& grid,
+                              const EvalOptions& options = {}, SignRenderStats* stats = nullptr);
 
 /// sign_render as an engine (`--engine sign`, alias `--sign-only`): grids only, signs only.
 class SignEngine final : public Engine {

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 #include <vector>
 
 namespace fortu {
@@ -15,10 +16,30 @@ namespace {
 
 using namespace ir;
 
+// Runtime ISA dispatch of the voxel engine's lane loops (GCC function multiversioning): each
+// wrapper is compiled twice, for x86-64-v4 (AVX-512) and for the build's -march, and the
+// program loader picks one for this CPU; `flatten` inlines the lane kernel into each copy.
+// Both copies round identically (IEEE operations, -ffp-contract=off, the same libm).
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__AVX512F__)
+#define FORTU_LANE_CLONES __attribute__((target_clones("arch=x86-64-v4", "default"), flatten))
+#else
+#define FORTU_LANE_CLONES
+#endif
+
+FORTU_LANE_CLONES void run_tile_float(const Instruction* code, std::size_t count, float* const* slots, int lanes) {
+    if (lanes == kTileSize) run_lanes<float, kTileSize>(code, count, slots, lanes);
+    else run_lanes<float, 0>(code, count, slots, lanes);
+}
+
+FORTU_LANE_CLONES void run_tile_double(const Instruction* code, std::size_t count, double* const* slots, int lanes) {
+    if (lanes == kTileSize) run_lanes<double, kTileSize>(code, count, slots, lanes);
+    else run_lanes<double, 0>(code, count, slots, lanes);
+}
+
 template <class T>
 void run_code(const std::vector<Instruction>& code, T* const* slots, int lanes) {
-    if (lanes == kTileSize) run_lanes<T, kTileSize>(code.data(), code.size(), slots, lanes);
-    else run_lanes<T, 0>(code.data(), code.size(), slots, lanes);
+    if constexpr (std::is_same_v<T, float>) run_tile_float(code.data(), code.size(), slots, lanes);
+    else run_tile_double(code.data(), code.size(), slots, lanes);
 }
 
 /// A run of consecutive grid points evaluated together.
@@ -222,6 +243,19 @@ void evaluate(const Graph& graph, NodeId root, Field& field, const EvalOptions& 
 }
 
 }  // namespace
+
+const char* lane_loop_isa() {
+#if defined(__AVX512F__)
+    return "AVX-512";
+#elif defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+    if (__builtin_cpu_supports("x86-64-v4")) return "AVX-512";   // the clone the loader picked
+#endif
+#if defined(__AVX2__)
+    return "AVX2";
+#else
+    return "SSE2";
+#endif
+}
 
 std::string_view VoxelEngine::name() const {
     return options_.precision == Precision::Float32 ? "voxel-f32" : "voxel";

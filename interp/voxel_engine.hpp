@@ -18,6 +18,10 @@ namespace fortu {
 /// 16% faster than 256 in float32 (single thread, 1024², min of 5).
 inline constexpr int kTileSize = 1024;
 
+/// The instruction set the voxel engine's lane loops run with on this CPU: "AVX-512" (the
+/// x86-64-v4 copy the loader picked), "AVX2" or "SSE2" (the build's -march).
+const char* lane_loop_isa();
+
 /// Grids narrower than this are evaluated in flat tiles, without hoisting (hoist.hpp): a
 /// tile per row would leave most of each vector loop's length unused.
 inline constexpr int kMinHoistColumns = 64;

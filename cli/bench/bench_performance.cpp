@@ -8,6 +8,8 @@
 #include "cli/data_paths.hpp"
 
 #include "cli/bench/bench_report.hpp"
+#include "interp/vector_math.hpp"
+#include "interp/voxel_engine.hpp"
 #include "runtime/atomic_file.hpp"
 #include "runtime/output_error.hpp"
 #include "runtime/resources.hpp"
@@ -26,7 +28,7 @@ namespace fs = std::filesystem;
 
 constexpr double kMiB = 1024.0 * 1024.0;
 
-enum class SuiteModel { Prospero, Floz64, Fig3a };
+enum class SuiteModel { Prospero, Floz64, Fig3a, Bear, Tanglecube };
 
 /// One row of the table: a model at a size, timed one way.
 struct Work {
@@ -59,6 +61,18 @@ constexpr Work kSuite[] = {
      0.020, 0, "≤ 20 ms", kNone},
     {SuiteModel::Fig3a, "field and its four M-images, float64", 800, 100, "voxel", true, false, 0.020, 0,
      "≤ 20 ms", kNone},
+    // 3D (issue 13's figures: one thread, libfive at commit e8370983 built with its own flags).
+    {SuiteModel::Bear, "full field, float32", 128, 32, "voxel-f32", false, true, 0, 0, kNone,
+     "libfive brute force 147 ms (1 thread)"},
+    {SuiteModel::Bear, "full field, float32", 256, 32, "voxel-f32", false, true, 0, 0, kNone,
+     "libfive brute force 1155 ms (1 thread)"},
+    {SuiteModel::Bear, "sign volume", 128, 32, "sign", false, true, 0, 0, kNone, kNone},
+    {SuiteModel::Bear, "sign volume", 256, 32, "sign", false, true, 0, 0, kNone, "libfive octree 757 ms (1 thread)"},
+    {SuiteModel::Tanglecube, "full field, float32", 128, 32, "voxel-f32", false, true, 0, 0, kNone, kNone},
+    {SuiteModel::Tanglecube, "full field, float32", 256, 32, "voxel-f32", false, true, 0, 0, kNone, kNone},
+    {SuiteModel::Tanglecube, "sign volume", 128, 32, "sign", false, true, 0, 0, kNone, kNone},
+    {SuiteModel::Tanglecube, "sign volume", 256, 32, "sign", false, true, 0, 0, kNone,
+     "libfive octree 7 ms (1 thread)"},
 };
 
 /// A model of the suite: where it is, what it is called in the table, and the loaded model
@@ -118,7 +132,7 @@ std::string target_text(const RowResult& r, bool quick) {
 }
 
 std::string rows_markdown(const std::vector<RowResult>& rows, bool quick) {
-    std::string md = "| work | fortu (median) | target | reference (issue 5, this kind of machine) |\n|---|---|---|---|\n";
+    std::string md = "| work | fortu (median) | target | reference (issues 5 and 13, this kind of machine) |\n|---|---|---|---|\n";
     for (const RowResult& r : rows)
         md += fmt::format("| {} | {} | {} | {} |\n", r.label, fortu_text(r), target_text(r, quick), r.work->reference);
     return md;
@@ -177,6 +191,8 @@ int run_performance_benchmarks(const PerformanceOptions& options) {
         load_suite_model("64-segment FLOZ (floz64.vm)", floz64, "set FORTU_BENCH_MODELS to the source tree's bench/models"),
         load_suite_model("S1 Fig. 3a FLOZ contour", examples_folder(options.examples_dir) / "s1_fig3a_floz.fortu",
                          "give --examples DIR"),
+        load_suite_model("bear.vm", fs::path(data) / "bear.vm", "give --data DIR, the folder with bear.vm"),
+        load_suite_model("tanglecube.vm", fs::path(data) / "tanglecube.vm", "give --data DIR, the folder with tanglecube.vm"),
     };
     const MachineInfo machine = describe_machine();
     ClassicRate unused_rate;   // the suite has no classic cell
@@ -184,7 +200,8 @@ int run_performance_benchmarks(const PerformanceOptions& options) {
     for (const Work& w : kSuite) {
         const LoadedModel& m = models[int(w.model)];
         const int size = options.quick ? w.quick_size : w.size;
-        RowResult r{&w, fmt::format("{} {}² {}", m.label, size, w.what), &m, size, std::nullopt};
+        const bool solid = w.model == SuiteModel::Bear || w.model == SuiteModel::Tanglecube;
+        RowResult r{&w, fmt::format("{} {}{} {}", m.label, size, solid ? "³" : "²", w.what), &m, size, std::nullopt};
         if (m.model) {
             MeasureOptions measure = options.measure;
             measure.mimages = w.mimages;
@@ -199,14 +216,17 @@ int run_performance_benchmarks(const PerformanceOptions& options) {
 
     std::string md = fmt::format(
         "# fortu bench --performance{}\n\n"
-        "{}; load average {} before it.\n\n"
+        "{}; load average {} before it. Instruction sets: lane loops {}, float32 transcendentals {} (SLEEF).\n\n"
         "Each time is the median of {} runs of the evaluation alone, as `fortu run` makes it (no file writing): "
         "`--sign-only`'s interval-pruned renderer for a sign image, the voxel engine for a full field "
         "(`--precision float32` or float64); the M-image rows add the FV model's normalised components n1..n4 "
         "(what `--mimages` encodes and writes). Peak memory: the process's peak RSS during the cell (+ what the "
         "cell added), by {}. Models: prospero.vm from {}; floz64.vm = `/usr/bin/python3 ../shared/peers/gen_floz.py "
-        "floz64.vm --k 64`, committed as bench/models/floz64.vm; examples/s1_fig3a_floz.fortu.{}\n\n",
+        "floz64.vm --k 64`, committed as bench/models/floz64.vm; examples/s1_fig3a_floz.fortu; bear.vm and tanglecube.vm "
+        "from the same folder as prospero.vm (the 3D sign rows go through the engine table, so they keep a float64 "
+        "field; `fortu run --sign-only` keeps 3D signs as int8).{}\n\n",
         options.quick ? " --quick" : "", run_text(machine, options.measure.threads, clock.seconds()), load,
+        lane_loop_isa(), vector_math::isa_name(vector_math::active_isa()),
         options.measure.repeat, memory_method_text(), data,
         options.quick ? " --quick: small grids, not comparable with the targets." : "");
     md += rows_markdown(rows, options.quick);

@@ -258,14 +258,18 @@ TEST_CASE("fortu bench --performance: without prospero.vm its rows say Not run, 
     CHECK(md.find("| S1 Fig. 3a FLOZ contour 100² field and its four M-images, float32 | ") != std::string::npos);
     CHECK(md.find(" (M-images ") != std::string::npos);
     CHECK(count(md, "(not comparable: --quick)") == 3);   // measured rows with a target
-    CHECK(count(md, "\n| ") == 9);   // the header and eight rows
+    CHECK(count(md, "| Not run: bear.vm not found in " + empty + " |") == 4);
+    CHECK(count(md, "| Not run: tanglecube.vm not found in " + empty + " |") == 4);
+    CHECK(md.find("| bear.vm 32³ sign volume | Not run: ") != std::string::npos);
+    CHECK(md.find("Instruction sets: lane loops ") != std::string::npos);
+    CHECK(count(md, "\n| ") == 17);   // the header and sixteen rows
 
     const std::string json = t.read("perf/results.json");
     CHECK(json.starts_with("{\n  \"schema\": \"fortu-bench-performance/1\",\n  \"machine\": {\"cpu\": "));
     CHECK(json.find("\"options\": {\"quick\": true, \"repeat\": 1, ") != std::string::npos);
     CHECK(json.find("\"data_dir\": " + std::string("\"") + empty + "\"}") != std::string::npos);
     CHECK(count(json, "\"status\": \"not run\",\n      \"met\": null,\n      \"reason\": \"prospero.vm not found in ") == 3);
-    CHECK(count(json, "\"cell\": null") == 3);
+    CHECK(count(json, "\"cell\": null") == 11);
     CHECK(count(json, "\"status\": \"measured\",\n      \"met\": null,\n      \"reason\": null,\n      \"cell\": {") == 5);
     CHECK(count(json, "\"mimages\": true,") == 2);
     CHECK(count(json, "\"median_mimages_seconds\": ") == 2);

@@ -152,3 +152,36 @@ TEST_CASE("NaN and infinity: the sign image marks invalid points as the full eva
     CHECK(s.values[g.index(64, 10)] == 1.0);        // X = 1: 1 - 0.5
     CHECK(s.values[g.index(40, 10)] == 0.0);        // X = 0.25: 0.5 - 0.5 + 4 - 4 + 0
 }
+
+TEST_CASE("a 3D sign volume keeps one int8 per node: the same signs and statistics as the float64 field") {
+    // NaN where x < 0 (SQRT), +1, −1 and exact zeros (z = 0.5 on a grid node) all occur.
+    test::Compiled c = test::compile_text(
+        "ARGUMENT x(-1, 1), y(-1, 1), z(-1, 1);\nRETURN SQRT(x) * 0 + (0.5 - z) * (0.6 - x*x - y*y);\n");
+    REQUIRE_MESSAGE(c.model, c.sink.render_all());
+    const Grid g = grid_for(*c.model, 0, 17);
+    const Field field = sign_render(c.model->graph, c.model->root, g);
+    const SignVolume volume = sign_render_volume(c.model->graph, c.model->root, g);
+    REQUIRE(volume.signs.size() == g.points());
+    const Field expanded = volume.expanded();
+    std::size_t differing = 0;
+    for (std::size_t i = 0; i < g.points(); ++i) {
+        const double a = field.values[i], b = expanded.values[i];
+        differing += !(a == b || (std::isnan(a) && std::isnan(b)));
+    }
+    CHECK(differing == 0);
+    CHECK(volume.signs[g.index(0, 0, 0)] == SignVolume::kNaN);
+    CHECK(volume.signs[g.index(16, 8, 0)] == -1);   // x = 1, y = 0, z = −1: (1.5)(−0.4)
+    CHECK(volume.signs[g.index(12, 8, 12)] == 0);   // z = 0.5
+    const FieldStats a = field_stats(field), b = volume.stats();
+    CHECK(a.invalid == b.invalid);
+    CHECK(a.positive == b.positive);
+    CHECK(a.zero == b.zero);
+    CHECK(a.negative == b.negative);
+    CHECK(a.min == b.min);
+    CHECK(a.max == b.max);
+    CHECK(a.mean == b.mean);
+    CHECK(b.invalid > 0);
+    CHECK(b.positive > 0);
+    CHECK(b.zero > 0);
+    CHECK(b.negative > 0);
+}

@@ -1,0 +1,43 @@
+// interp/vector_math.hpp — float32 transcendentals on whole lane arrays with SLEEF's vector
+// functions (the ops of vector_math.def), on the widest instruction set this CPU has:
+// AVX-512 where it exists, AVX2 + FMA otherwise, chosen once at run time. Why: a lane loop
+// that calls libm once per lane spends most of its time there (bear.vm: 29 exp and 8 log
+// per point); SLEEF computes 8 or 16 lanes in about the time libm takes for one.
+// float64 does not come here: it keeps libm on every path (vector_math.def says why).
+#pragma once
+
+#include "interp/ir/ir.hpp"
+
+namespace fortu::vector_math {
+
+enum class Isa { none, avx2, avx512 };
+
+/// Whether `op` is in vector_math.def (its float32 lane loop may come here).
+constexpr bool has_vector_kernel(ir::Op op) {
+    switch (op) {
+#define FORTU_VECTOR_MATH_1(op, sleef, accuracy, ulp, lo, hi) case ir::Op::op:
+#define FORTU_VECTOR_MATH_2(op, sleef, accuracy, ulp, lo, hi) case ir::Op::op:
+#include "interp/vector_math.def"
+        return true;
+    default:
+        return false;
+    }
+}
+
+/// The widest ISA both this build and this CPU support.
+Isa best_isa();
+/// The ISA run_float uses (best_isa() unless narrowed by use_isa).
+Isa active_isa();
+/// Narrows the ISA (tests compare the variants; `none` makes run_float refuse); an ISA
+/// wider than best_isa() gives best_isa(). Not thread-safe: call before evaluating.
+void use_isa(Isa isa);
+/// "AVX-512", "AVX2" or "none".
+const char* isa_name(Isa isa);
+
+/// out[l] = op(a[l], b[l]) for l < lanes; an operand whose bit is set in constant_mask is
+/// ka / kb in every lane. False (nothing written) when op has no vector kernel or no
+/// vector ISA is active: the caller runs its own lane loop.
+bool run_float(ir::Op op, const float* a, const float* b, float ka, float kb, unsigned constant_mask,
+               float* out, int lanes);
+
+}  // namespace fortu::vector_math

@@ -1,0 +1,26 @@
+// interp/vector_math_kernels.hpp — the per-ISA kernel tables of vector_math.def, shared by
+// the dispatcher (vector_math.cpp) and the translation units compiled for one ISA each
+// (vector_math_avx2.cpp, vector_math_avx512.cpp). Why a header with no includes: a
+// translation unit compiled with -mavx512f must not emit inline functions of shared
+// headers (the linker could keep its AVX-512 copy for the whole program).
+#pragma once
+
+namespace fortu::vector_math {
+
+/// One entry per line of vector_math.def, in its order.
+enum Slot : int {
+#define FORTU_VECTOR_MATH_1(op, sleef, accuracy, ulp, lo, hi) k##op,
+#define FORTU_VECTOR_MATH_2(op, sleef, accuracy, ulp, lo, hi) k##op,
+#include "interp/vector_math.def"
+    kSlotCount
+};
+
+/// out[l] = op(a[l], b[l]) for l < lanes; an operand whose bit is set in constant_mask
+/// (bit 0: a, bit 1: b) is ka / kb in every lane; b is unused by one-operand ops.
+using Kernel = void (*)(const float* a, const float* b, float ka, float kb, unsigned constant_mask,
+                        float* out, int lanes);
+
+extern const Kernel kAvx2Kernels[kSlotCount];
+extern const Kernel kAvx512Kernels[kSlotCount];
+
+}  // namespace fortu::vector_math

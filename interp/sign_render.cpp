@@ -44,7 +44,14 @@ struct Scratch {
     std::vector<double> lanes;
     std::vector<double*> slots;
     std::vector<std::unique_ptr<Tape>> tapes;  ///< one per recursion depth
+    Tape leaf_tape;                             ///< a long leaf tape in max-live slots
+    SlotScratch slot_scratch;
 };
+
+/// Leaf tapes with more SSA slots than this run in reallocated slots: lanes cost slots ×
+/// points, so a deep model no box shortens would cost gigabytes a worker, while the
+/// short tapes of most leaves are not worth the extra pass.
+constexpr uint32_t kReallocateAboveSlots = 4096;
 
 /// A sign as stored: a float64 value (a Field) or an int8 (a SignVolume).
 template <class Value>
@@ -114,7 +121,9 @@ public:
         for (const Box& child : split(box)) render(child, simplified, s, depth + 1, st);
     }
 
-    void evaluate_points(const Box& box, const Tape& tape, Scratch& s, SignRenderStats& st) {
+    void evaluate_points(const Box& box, const Tape& ssa, Scratch& s, SignRenderStats& st) {
+        if (ssa.slot_count > kReallocateAboveSlots) reallocate_slots(ssa, s.leaf_tape, s.slot_scratch);
+        const Tape& tape = ssa.slot_count > kReallocateAboveSlots ? s.leaf_tape : ssa;
         const int n = static_cast<int>(box.points());
         if (s.lanes.size() < std::size_t(tape.slot_count) * kLeafLanes) {
             s.lanes.resize(std::size_t(tape.slot_count) * kLeafLanes);
@@ -211,8 +220,11 @@ void render_signs(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
             }
             auto simplified = std::make_shared<Tape>();
             signs[i] = renderer.decide(item.box, *item.tape, scratch[worker], *simplified, worker_stats[worker]);
+            // A tape the box barely shortens is not copied: the parent's serves the children.
+            std::shared_ptr<const Tape> tape = simplified;
+            if (simplified->code.size() * 8 > item.tape->code.size() * 7) tape = item.tape;
             if (!signs[i])
-                for (const Box& child : Renderer<Value>::split(item.box)) children[i].push_back({child, simplified});
+                for (const Box& child : Renderer<Value>::split(item.box)) children[i].push_back({child, tape});
             return std::size_t{0};
         });
         std::vector<Item> next;

@@ -2,7 +2,8 @@
 # finds its parts in, relative to its own executable (cli/data_paths.hpp,
 # runtime/plugin_loader.hpp), so any prefix and any copy of the tree works:
 #   bin/fortu
-#   lib/fortu/libfortu_image.so, libfortu_vdb.so     the plug-ins
+#   LIBDIR/fortu/libfortu_image.so, libfortu_vdb.so  the plug-ins (lib/fortu, or
+#                                                    lib/x86_64-linux-gnu/fortu for /usr)
 #   share/fortu/stdlib, examples, bench/models        the data folders
 #   share/man/man1/fortu.1                            help2man on the built binary + every command's --help
 #   share/bash-completion/completions/fortu, share/zsh/vendor-completions/_fortu
@@ -44,15 +45,17 @@ else()
   message(STATUS "python3 not found: no shell completion or man page")
 endif()
 
-# The Debian package: `cd build/release && cpack -G DEB` gives fortu_VERSION_ARCH.deb for
-# /usr, its dependencies computed by dpkg-shlibdeps from the binary and the plug-ins.
+# The Debian package: in a build folder configured with -DCMAKE_INSTALL_PREFIX=/usr (so that
+# GNUInstallDirs and the Python module pick Debian's folders), `cpack -G DEB` gives
+# fortu_VERSION_ARCH.deb, its dependencies computed by dpkg-shlibdeps from the binary and plug-ins.
 set(CPACK_PACKAGE_NAME fortu)
 set(CPACK_PACKAGE_VENDOR "fortu")
 set(CPACK_PACKAGE_CONTACT "fortu maintainers <fortu@localhost>")
 set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "interpreter for FORTU R-function models (RANOK scripts)")
-set(CPACK_PACKAGE_DESCRIPTION "fortu parses FORTU scripts (the language of the RANOK R-function\n"
-    "modelling systems), evaluates them on 2D/3D grids with the classic and functional-voxel\n"
-    "engines, and writes pictures, M-images, values, contours, meshes and volumes.")
+string(CONCAT CPACK_PACKAGE_DESCRIPTION
+  "fortu parses FORTU scripts (the language of the RANOK R-function modelling systems),\n"
+  "evaluates them on 2D/3D grids with the classic and functional-voxel engines, and writes\n"
+  "pictures, M-images, values, contours, meshes and volumes.")
 set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 set(CPACK_GENERATOR DEB)
 set(CPACK_STRIP_FILES ON)
@@ -62,4 +65,7 @@ set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 # The Python module (python3 -c 'import fortu') needs the interpreter and numpy, which no
 # library dependency names.
 set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "python3, python3-numpy")
+if(NOT CMAKE_INSTALL_PREFIX STREQUAL "/usr")
+  message(STATUS "cpack -G DEB: configure a build folder with -DCMAKE_INSTALL_PREFIX=/usr for the package")
+endif()
 include(CPack)

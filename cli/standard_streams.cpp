@@ -3,6 +3,7 @@
 
 #include "runtime/output_error.hpp"
 #include "runtime/output_formats.hpp"
+#include "runtime/temp_files.hpp"
 
 #include <cerrno>
 #include <cstdio>
@@ -12,6 +13,7 @@
 #include <fmt/format.h>
 #include <iostream>
 #include <optional>
+#include <signal.h>
 #include <unistd.h>
 
 namespace fortu {
@@ -48,8 +50,10 @@ std::shared_ptr<SourceFile> read_stdin(std::string& error) {
 /// "png|jpg|tif|..." : each format by its usual extension.
 std::string format_names() {
     std::string names;
-    for (const OutputFormat& format : output_formats())
-        names += (names.empty() ? "" : "|") + std::string(format.extension());
+    for (const OutputFormat& format : output_formats()) {
+        if (!names.empty()) names += '|';
+        names += format.extension();
+    }
     return names;
 }
 
@@ -99,32 +103,47 @@ StdoutOutput::StdoutOutput(const std::string& extension) {
     std::error_code ec;
     std::filesystem::path base = std::filesystem::temp_directory_path(ec);
     if (ec) base = "/tmp";
-    std::string folder = (base / "fortu-stdout-XXXXXX").string();
-    if (!::mkdtemp(folder.data())) throw OutputError(kStdoutName, std::string("cannot make a temporary folder: ") +
-                                                                      std::strerror(errno));
-    folder_ = folder;
-    path_ = folder_ + "/stdout." + extension;
+    // Named as the writers' temporaries are, so SIGINT/SIGTERM/SIGHUP remove it and a later
+    // run writing into the same folder removes it if this process is killed.
+    const std::string suffix = "." + extension;
+    std::string path = (base / temporary_file_name("stdout" + suffix, "XXXXXX")).string();
+    const int fd = ::mkstemps(path.data(), static_cast<int>(suffix.size()));
+    if (fd < 0) throw OutputError(kStdoutName, std::string("cannot make a temporary file: ") + std::strerror(errno));
+    ::close(fd);
+    path_ = path;
+    slot_ = remember_temporary(path_);
     live_stdout_path() = path_;
 }
 
 StdoutOutput::~StdoutOutput() {
     live_stdout_path().clear();
-    std::error_code ec;
-    std::filesystem::remove_all(folder_, ec);
+    ::unlink(path_.c_str());
+    if (slot_ >= 0) forget_temporary(slot_);
 }
 
 void StdoutOutput::send() const {
     std::FILE* file = std::fopen(path_.c_str(), "rb");
     if (!file) throw OutputError(kStdoutName, std::string("the output was not written: ") + std::strerror(errno));
     std::cout.flush();
+    // A reader that stops early (`| head`) closes the pipe: remove the temporary, then end by
+    // SIGPIPE as any Unix filter does, without a message.
+    struct sigaction ignore {}, previous{};
+    ignore.sa_handler = SIG_IGN;
+    ::sigaction(SIGPIPE, &ignore, &previous);
     char buffer[1 << 16];
     std::size_t n = 0;
     bool failed = false;
     while (!failed && (n = std::fread(buffer, 1, sizeof buffer, file)) > 0)
         failed = std::fwrite(buffer, 1, n, stdout) != n;
     std::fclose(file);
-    if (failed || std::fflush(stdout) != 0)
-        throw OutputError(kStdoutName, std::strerror(errno));
+    if (!failed) failed = std::fflush(stdout) != 0;
+    const int error = errno;
+    ::sigaction(SIGPIPE, &previous, nullptr);
+    if (failed && error == EPIPE) {
+        ::unlink(path_.c_str());
+        ::raise(SIGPIPE);
+    }
+    if (failed) throw OutputError(kStdoutName, std::strerror(error));
 }
 
 std::string shown_output_path(const std::string& path) {

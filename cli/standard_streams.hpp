@@ -4,8 +4,7 @@
 // `-o /dev/stdout`) with `--format EXT` writes the output to standard output.
 //
 // Why a temporary file for `-o -`: every writer writes a file atomically beside its target
-// (runtime/atomic_file.hpp) and some seek (EXR, TIFF); writing into a private temporary folder
-// and copying the finished file to standard output keeps every writer as it is and never sends
+// (runtime/atomic_file.hpp) and some seek (EXR, TIFF); writing a temporary file and copying the finished file to standard output keeps every writer as it is and never sends
 // half a file down a pipe.
 #pragma once
 
@@ -30,11 +29,12 @@ std::string shown_script_name(const std::string& argument);
 /// a terminal.
 void check_stdout_output(const CliOptions& o, bool stdout_is_terminal);
 
-/// An output sent to standard output: a file in a private temporary folder that send() copies
-/// to standard output; the folder is removed on destruction.
+/// An output sent to standard output: a temporary file (in TMPDIR, named and registered as the
+/// writers' temporaries are, runtime/temp_files.hpp) that send() copies to standard output;
+/// removed on destruction.
 class StdoutOutput {
 public:
-    /// Throws OutputError when the temporary folder cannot be made.
+    /// Throws OutputError when the temporary file cannot be made.
     explicit StdoutOutput(const std::string& extension);
     ~StdoutOutput();
     StdoutOutput(const StdoutOutput&) = delete;
@@ -46,7 +46,8 @@ public:
     void send() const;
 
 private:
-    std::string folder_, path_;
+    std::string path_;
+    int slot_ = -1;   ///< remember_temporary()'s
 };
 
 /// `<stdout>` for the path of the live StdoutOutput, else `path` (for `wrote` lines).

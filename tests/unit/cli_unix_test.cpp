@@ -75,6 +75,22 @@ TEST_CASE("unix: `-o -` and `-o /dev/stdout` write the output to standard output
     CHECK(dir.entries() == 7);   // m.fortu, file.{csv,png,npy}, piped.{png,npy}, err.txt: no temporaries
 }
 
+TEST_CASE("unix: `-o -` leaves no temporary, also when the reader stops early (SIGPIPE, as Unix filters)") {
+    fortu::test::ScratchDir dir;
+    dir.write("m.fortu", kDisc);
+    std::filesystem::create_directories(dir.path / "tmp");
+    const std::string env = "cd " + quote(dir.path.string()) + " && TMPDIR=tmp " + quote(FORTU_BINARY);
+    const auto whole = run_shell(env + " run m.fortu --size 300 -o - --format csv -q | wc -l");
+    CHECK(whole.out == "90001\n");
+    const auto early = run_shell("bash -c " + quote(env + " run m.fortu --size 300 -o - --format csv 2>err.txt | "
+                                                          "head -c 9; echo \" ${PIPESTATUS[0]}\""));
+    CHECK(early.out == "x,y,value 141\n");   // 128 + SIGPIPE, and no error message
+    CHECK(dir.read("err.txt") == "wrote <stdout> (300x300)\n");
+    const auto failed = run_shell(env + " run m.fortu --size 4 -o - --format png --limit nodes=1 2>/dev/null | wc -c");
+    CHECK(failed.out == "0\n");
+    CHECK(std::filesystem::is_empty(dir.path / "tmp"));
+}
+
 TEST_CASE("unix: `-o -` needs --format, --format needs `-o -`, and binary is not sent to a terminal") {
     fortu::test::ScratchDir dir;
     dir.write("m.fortu", kDisc);

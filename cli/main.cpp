@@ -149,7 +149,8 @@ int command_singular(const CliOptions& o) {
     const SingularSet singular = find_singular_set(*model, grid);
     const std::vector<SingularPoint>& points = singular.points;
     std::cout << fmt::format("{}: {} singular point{} (K = 0 and R = 0) in x [{}, {}], y [{}, {}]{}\n",
-                             shown_script_name(o.positional[0]), points.size(), points.size() == 1 ? "" : "s", grid.x.min,
+                             shown_script_name(o.positional[0]), points.size(), points.size() == 1 ? "" : "s",
+                             grid.x.min,
                              grid.x.max, grid.y.min, grid.y.max,
                              grid.dims == 3 ? fmt::format(", z [{}, {}]", grid.z.min, grid.z.max) : "");
     for (const SingularPoint& s : points) {
@@ -198,11 +199,11 @@ int run_shaded_view(const Model& model, const CliOptions& o) {
     }
     std::cerr << written_picture_line(o, o.output, size[0], size[1]);
     if (o.stats)
-        report_stream(o) << fmt::format("model: {}\nshaded view: {}x{}, azimuth {}, elevation {}, x [{}, {}], y [{}, {}], "
-                                 "z [{}, {}]\ntime: render {:.3f} s\npeak memory: {}\n",
-                                 shown_script_name(o.positional[0]), size[0], size[1], o.view.azimuth, o.view.elevation, box[0].min,
-                                 box[0].max, box[1].min, box[1].max, box[2].min, box[2].max, seconds,
-                                 format_bytes(peak_rss_bytes()));
+        report_stream(o) << fmt::format(
+            "model: {}\nshaded view: {}x{}, azimuth {}, elevation {}, x [{}, {}], y [{}, {}], "
+            "z [{}, {}]\ntime: render {:.3f} s\npeak memory: {}\n",
+            shown_script_name(o.positional[0]), size[0], size[1], o.view.azimuth, o.view.elevation, box[0].min,
+            box[0].max, box[1].min, box[1].max, box[2].min, box[2].max, seconds, format_bytes(peak_rss_bytes()));
     return 0;
 }
 

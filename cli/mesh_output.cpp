@@ -64,7 +64,8 @@ int run_mesh_output(const Model& model, const Grid& grid, const CliOptions& o, d
         "{} edge solves for {} vertices\n"
         "time: compile {:.3f} s, mesh {:.3f} s, write {:.3f} s\n"
         "peak memory: {} meshing, {} in all\n",
-        shown_script_name(o.positional[0]), mesh.triangles.size(), mesh.vertices.size(), grid.cols(), grid.rows(), grid.slices(),
+        shown_script_name(o.positional[0]), mesh.triangles.size(), mesh.vertices.size(), grid.cols(), grid.rows(),
+        grid.slices(),
         grid.x.min, grid.x.max, grid.y.min, grid.y.max, grid.z.min, grid.z.max, stats.boxes, stats.leaves,
         stats.node_evaluations, 100.0 * double(stats.node_evaluations) / double(grid.points()),
         format_operations(double(grid.points())), stats.edge_evaluations, stats.crossing_edges, compile_seconds,

@@ -13,8 +13,9 @@ namespace {
 
 /// The picture of one plane of `grid`, as plane_picture() turns it: an x or y plane shows Z up.
 std::string plane_size(const Grid& grid) {
-    if (grid.dims == 3 && grid.slices() > 1 && grid.cols() == 1) return fmt::format("{}x{}", grid.rows(), grid.slices());
-    if (grid.dims == 3 && grid.slices() > 1 && grid.rows() == 1) return fmt::format("{}x{}", grid.cols(), grid.slices());
+    const bool spans_z = grid.dims == 3 && grid.slices() > 1;
+    if (spans_z && grid.cols() == 1) return fmt::format("{}x{}", grid.rows(), grid.slices());
+    if (spans_z && grid.rows() == 1) return fmt::format("{}x{}", grid.cols(), grid.slices());
     return fmt::format("{}x{}", grid.cols(), grid.rows());
 }
 
@@ -34,7 +35,8 @@ std::string written_lines(const CliOptions& o, const Grid& grid) {
         const bool one_plane = is_file_series(target) || grid.dims == 2 || grid.slices() == 1 ||
                                grid.cols() == 1 || grid.rows() == 1;
         const bool picture = format && (format->kind == OutputKind::Picture || format->kind == OutputKind::Contour);
-        const std::string size = picture || (one_plane && file.option == "--mimages") ? plane_size(grid) : grid_size(grid);
+        const bool flat = picture || (one_plane && file.option == "--mimages");
+        const std::string size = flat ? plane_size(grid) : grid_size(grid);
         lines += fmt::format("wrote {} ({})\n", shown_output_path(file.path), size);
     }
     return lines;

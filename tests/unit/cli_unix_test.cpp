@@ -97,8 +97,8 @@ TEST_CASE("unix: `-o -` needs --format, --format needs `-o -`, and binary is not
     const std::string cwd = dir.path.string();
     const auto missing = run_fortu("run m.fortu -o -", cwd);
     CHECK(missing.status == 2);
-    CHECK(missing.out ==
-          "fortu: error: -o -: give the format with --format (png|jpg|tif|bmp|exr|npy|csv|svg|stl|obj|ply|vti|nrrd|vdb)\n");
+    CHECK(missing.out == "fortu: error: -o -: give the format with --format "
+                         "(png|jpg|tif|bmp|exr|npy|csv|svg|stl|obj|ply|vti|nrrd|vdb)\n");
     const auto unknown = run_fortu("run m.fortu -o - --format gif", cwd);
     CHECK(unknown.status == 2);
     CHECK(unknown.out == "fortu: error: --format: unknown output format 'gif' (use "
@@ -116,8 +116,8 @@ TEST_CASE("unix: `-o -` needs --format, --format needs `-o -`, and binary is not
     CHECK(terminal.status == 2);
     CHECK(terminal.out == "fortu: error: -o -: PNG is binary and standard output is a terminal; redirect it to a "
                           "file or a pipe (fortu run MODEL -o - --format png > out.png)\r\n");
-    const auto text = run_shell("cd " + quote(cwd) + " && script -qec " +
-                                quote(quote(FORTU_BINARY) + " run m.fortu --size 2 -o - --format csv -q") + " /dev/null");
+    const std::string csv_run = quote(FORTU_BINARY) + " run m.fortu --size 2 -o - --format csv -q";
+    const auto text = run_shell("cd " + quote(cwd) + " && script -qec " + quote(csv_run) + " /dev/null");
     CHECK(text.status == 0);
     CHECK(text.out == "x,y,value\r\n-1,1,-1.75\r\n1,1,-1.75\r\n-1,-1,-1.75\r\n1,-1,-1.75\r\n");
 }

@@ -7,6 +7,7 @@
 #include "cli/fv_options.hpp"
 #include "cli/option_table.hpp"
 #include "cli/picture_options.hpp"
+#include "cli/standard_streams.hpp"
 
 #include "runtime/grid.hpp"
 #include "runtime/output.hpp"
@@ -16,6 +17,7 @@
 #include <charconv>
 #include <cmath>
 #include <fmt/format.h>
+#include <unistd.h>
 
 namespace fortu {
 namespace {
@@ -68,6 +70,7 @@ int parse_threads(const std::string& s) {
 }
 
 std::string checked_output(const std::string& path) {
+    if (is_stdout_path(path)) return path;   // its format comes from --format (standard_streams.hpp)
     if (!output_format_for(path)) {
         std::string extensions;
         for (const std::string& e : supported_output_extensions()) extensions += (extensions.empty() ? "." : ", .") + e;
@@ -82,6 +85,12 @@ struct EngineChoice {
 };
 
 void add_model_options(OptionTable& t, CliOptions& o) {
+    t.option("-I,--include-dir", "DIR", "a folder INCLUDE searches after the script's own, before\n"
+                                       "FORTU_PATH and the stdlib; repeatable, searched in order",
+             [&o](const std::string& dir) {
+                 if (dir.empty()) throw UsageError("--include-dir needs a folder");
+                 o.include_dirs.push_back(dir);
+             });
     t.option("--rsystem", "r0|alpha=A|minmax", "the R-system of & and | (wins over RSYSTEM in the script)",
              [&o](const std::string& r) {
                  o.rsystem = parse_rsystem(r);
@@ -185,6 +194,10 @@ void add_run_outputs(OptionTable& t, CliOptions& o) {
     });
     t.flag("--stats", "nodes, sharing, classic cost, time per stage, points/s,\ninvalid points, peak memory",
            [&o] { o.stats = true; });
+    t.option("--format", "EXT", "the format of -o - (standard output): png, npy, csv, svg...;\n"
+                                "a binary format is refused when standard output is a terminal",
+             [&o](const std::string& v) { o.format = v; });
+    t.flag("-q,--quiet", "no `wrote FILE (WxH)` line per file written", [&o] { o.quiet = true; });
 }
 
 struct CommandRow {
@@ -210,7 +223,7 @@ const CommandRow kCommands[] = {
          add_engine_options(t, o, c, false);
          add_model_options(t, o);
      }},
-    {"check", "MODEL.fortu [options]", "parse and check; diagnostics only",
+    {"check", "MODEL.fortu... [options]", "parse and check; diagnostics only (exit status: the worst)",
      [](OptionTable& t, CliOptions& o, EngineChoice&) { add_model_options(t, o); }},
     {"ir", "MODEL.fortu [options]", "print the lowered IR (nodes, sharing, costs),\nor with --stage the tape and its hoisted split",
      [](OptionTable& t, CliOptions& o, EngineChoice&) {
@@ -239,6 +252,10 @@ const CommandRow* find_command(const std::string& name) {
 
 /// Checks across options, once all are applied.
 void check_combinations(CliOptions& o, const EngineChoice& choice) {
+    if (o.command == "run") check_stdout_output(o, ::isatty(STDOUT_FILENO) == 1);
+    else if (is_stdout_path(o.output))
+        throw UsageError(fmt::format("-o {}: 'fortu {}' writes files only (standard output: fortu run)", o.output,
+                                     o.command));
     if (o.slice && !o.output.empty() && is_file_series(o.output))
         throw UsageError(fmt::format("-o: '{}' writes every z slice (%d); it does not combine with --slice", o.output));
     if (!o.mimages.empty())
@@ -246,7 +263,8 @@ void check_combinations(CliOptions& o, const EngineChoice& choice) {
     const OutputFormat* contour = o.contour.empty() ? nullptr : output_format_for(o.contour);
     if (!o.contour.empty() && (!contour || contour->kind != OutputKind::Contour))
         throw UsageError(fmt::format("--contour: '{}' must be an .svg file", o.contour));
-    const OutputFormat* output = o.output.empty() ? nullptr : output_format_for(o.output);
+    const OutputFormat* output =
+        o.output.empty() ? nullptr : output_format_for(is_stdout_path(o.output) ? "stdout." + o.format : o.output);
     if (output && output->kind == OutputKind::Mesh && (!o.mimages.empty() || !o.contour.empty()))
         throw UsageError(fmt::format("-o {}: a mesh does not combine with --mimages or --contour (run twice)", o.output));
     if (o.ascii && (!output || output->extension() != "stl")) throw UsageError("--ascii applies to -o FILE.stl only");
@@ -265,7 +283,7 @@ void check_positionals(const CliOptions& o) {
     if (o.positional.empty()) throw UsageError(fmt::format("'fortu {}' needs a MODEL file", o.command));
     if (o.command == "eval") {
         if (o.positional.size() < 3 || o.positional.size() > 4) throw UsageError("'fortu eval' needs MODEL X Y [Z]");
-    } else if (o.positional.size() > 1) {
+    } else if (o.positional.size() > 1 && o.command != "check") {
         throw UsageError(fmt::format("unexpected argument '{}'", o.positional[1]));
     }
 }

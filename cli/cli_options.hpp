@@ -49,7 +49,13 @@ struct CliOptions {
     IrStage stage = IrStage::Lower;            ///< --stage: what `fortu ir` prints
     std::string steps;                         ///< --steps: the folder for each definition's M-images
     const Engine* compare = nullptr;           ///< --compare: the engine the result is measured against
+    std::vector<std::string> include_dirs;     ///< -I / --include-dir: searched by INCLUDE before FORTU_PATH
+    std::string format;                        ///< --format: the format of `-o -` (standard output)
+    bool quiet = false;                        ///< --quiet: no `wrote FILE` lines
 };
+
+/// `-o -` and `-o /dev/stdout`: the output goes to standard output (stdout_output.hpp).
+bool is_stdout_path(const std::string& path);
 
 /// Parses argv (without the program name). Throws UsageError.
 CliOptions parse_command_line(const std::vector<std::string>& args);

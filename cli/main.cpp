@@ -12,7 +12,9 @@
 #include "cli/point_report.hpp"
 #include "cli/run_checks.hpp"
 #include "cli/picture_options.hpp"
+#include "cli/run_feedback.hpp"
 #include "cli/run_grid.hpp"
+#include "cli/standard_streams.hpp"
 
 #include "grammar/diagnostic.hpp"
 #include "interp/classic_cost.hpp"
@@ -44,11 +46,12 @@ namespace {
 constexpr int kExitModelError = 1;
 constexpr int kExitUsage = 2;
 
-/// Reads and compiles MODEL; prints its diagnostics (notes only when asked).
-std::optional<Model> load_model(const CliOptions& o, bool show_notes, double& seconds) {
+/// Reads and compiles `path` (MODEL, or "-" for standard input); prints its diagnostics
+/// (notes only when asked).
+std::optional<Model> load_model(const CliOptions& o, const std::string& path, bool show_notes, double& seconds) {
     Stopwatch clock;
     std::string error;
-    auto source = SourceFile::load(o.positional[0], error);
+    auto source = load_script_argument(path, error);
     if (!source) {
         std::cerr << fmt::format("fortu: error: {}\n", error);
         return std::nullopt;
@@ -56,7 +59,7 @@ std::optional<Model> load_model(const CliOptions& o, bool show_notes, double& se
     DiagnosticSink sink;
     CompileOptions options;
     options.rsystem = o.rsystem;
-    options.include_dirs = stdlib_dirs();
+    options.include_dirs = include_search_path(o.include_dirs);
     options.limits = o.limits;
     std::optional<Model> model = compile_model(source, options, sink);
     for (const Diagnostic& d : sink.diagnostics())
@@ -65,22 +68,34 @@ std::optional<Model> load_model(const CliOptions& o, bool show_notes, double& se
     return model;
 }
 
+std::optional<Model> load_model(const CliOptions& o, bool show_notes, double& seconds) {
+    return load_model(o, o.positional[0], show_notes, seconds);
+}
+
 Grid make_grid(const Model& model, const CliOptions& o) { return run_grid(model, o); }
 
+/// `fortu check A B ...`: each file in turn; the exit status is the worst.
 int command_check(const CliOptions& o) {
-    double seconds = 0;
-    std::optional<Model> model = load_model(o, /*show_notes=*/true, seconds);
-    if (!model) return kExitModelError;
-    std::cout << fmt::format("{}: ok ({} argument{}, {} nodes)\n", o.positional[0], model->arguments.size(),
-                             model->arguments.size() == 1 ? "" : "s", ir_stats(*model).nodes);
-    return 0;
+    int status = 0;
+    for (const std::string& path : o.positional) {
+        double seconds = 0;
+        std::optional<Model> model = load_model(o, path, /*show_notes=*/true, seconds);
+        if (!model) {
+            status = kExitModelError;
+            continue;
+        }
+        std::cout << fmt::format("{}: ok ({} argument{}, {} nodes)\n", shown_script_name(path),
+                                 model->arguments.size(), model->arguments.size() == 1 ? "" : "s",
+                                 ir_stats(*model).nodes);
+    }
+    return status;
 }
 
 int command_ir(const CliOptions& o) {
     double seconds = 0;
     std::optional<Model> model = load_model(o, false, seconds);
     if (!model) return kExitModelError;
-    std::cout << print_stage(*model, o.positional[0], o.stage);
+    std::cout << print_stage(*model, shown_script_name(o.positional[0]), o.stage);
     return 0;
 }
 
@@ -128,14 +143,18 @@ int command_singular(const CliOptions& o) {
     double seconds = 0;
     std::optional<Model> model = load_model(o, false, seconds);
     if (!model) return kExitModelError;
+    if (o.slice && model->dims() != 3)
+        throw UsageError("--slice: the model has 2 arguments; slices are planes of 3D models");
     CliOptions search = o;
     if (search.size.empty()) search.size = {model->dims() == 3 ? 48 : 401};
     search.slice.reset();   // the search covers the cube; --slice picks the picture's slice
     const Grid grid = make_grid(*model, search);
+    if (!o.output.empty()) check_outputs(o, grid);   // before the search, not after it
     const SingularSet singular = find_singular_set(*model, grid);
     const std::vector<SingularPoint>& points = singular.points;
     std::cout << fmt::format("{}: {} singular point{} (K = 0 and R = 0) in x [{}, {}], y [{}, {}]{}\n",
-                             o.positional[0], points.size(), points.size() == 1 ? "" : "s", grid.x.min,
+                             shown_script_name(o.positional[0]), points.size(), points.size() == 1 ? "" : "s",
+                             grid.x.min,
                              grid.x.max, grid.y.min, grid.y.max,
                              grid.dims == 3 ? fmt::format(", z [{}, {}]", grid.z.min, grid.z.max) : "");
     for (const SingularPoint& s : points) {
@@ -183,16 +202,30 @@ int run_shaded_view(const Model& model, const CliOptions& o) {
         std::cerr << fmt::format("fortu: error: {}\n", e.what());
         return kExitModelError;
     }
+    std::cerr << written_picture_line(o, o.output, size[0], size[1]);
     if (o.stats)
-        std::cout << fmt::format("model: {}\nshaded view: {}x{}, azimuth {}, elevation {}, x [{}, {}], y [{}, {}], "
-                                 "z [{}, {}]\ntime: render {:.3f} s\npeak memory: {}\n",
-                                 o.positional[0], size[0], size[1], o.view.azimuth, o.view.elevation, box[0].min,
-                                 box[0].max, box[1].min, box[1].max, box[2].min, box[2].max, seconds,
-                                 format_bytes(peak_rss_bytes()));
+        report_stream(o) << fmt::format(
+            "model: {}\nshaded view: {}x{}, azimuth {}, elevation {}, x [{}, {}], y [{}, {}], "
+            "z [{}, {}]\ntime: render {:.3f} s\npeak memory: {}\n",
+            shown_script_name(o.positional[0]), size[0], size[1], o.view.azimuth, o.view.elevation, box[0].min,
+            box[0].max, box[1].min, box[1].max, box[2].min, box[2].max, seconds, format_bytes(peak_rss_bytes()));
     return 0;
 }
 
+int command_run_files(const CliOptions& o);
+
+/// `fortu run`: `-o -` writes into a temporary file sent to standard output once complete.
 int command_run(const CliOptions& o) {
+    if (!is_stdout_path(o.output)) return command_run_files(o);
+    StdoutOutput out(o.format);
+    CliOptions to_file = o;
+    to_file.output = out.path();
+    const int status = command_run_files(to_file);
+    if (status == 0) out.send();
+    return status;
+}
+
+int command_run_files(const CliOptions& o) {
     double compile_seconds = 0;
     std::optional<Model> model = load_model(o, false, compile_seconds);
     if (!model) return kExitModelError;
@@ -208,7 +241,7 @@ int command_run(const CliOptions& o) {
         if (slices_too) check_outputs(o, make_grid(*model, rest));   // before anything is written
         const int status = run_shaded_view(*model, o);
         if (status != 0 || !slices_too) return status;
-        return command_run(rest);
+        return command_run_files(rest);
     }
     const Grid grid = make_grid(*model, o);
     check_outputs(o, grid);
@@ -268,24 +301,26 @@ int command_run(const CliOptions& o) {
         return kExitModelError;
     }
     const double write_seconds = write_clock.seconds();
+    std::cerr << written_lines(o, grid);
+    std::ostream& report = report_stream(o);
     if (o.compare) {
         const std::unique_ptr<Engine> reference = o.compare->tuned(o.engine_settings);
         EvalOptions quiet;
         quiet.threads = o.threads;
         const Field expected = evaluate_grid(*model, grid, *reference, quiet);
-        std::cout << compare_report(field, engine->description(), expected, reference->description());
+        report << compare_report(field, engine->description(), expected, reference->description());
     }
 
     if (!o.stats && o.output.empty() && o.mimages.empty() && o.contour.empty() && !o.compare && o.steps.empty()) {
-        std::cout << fmt::format("{} {} with {} in {}: inside {}, boundary {}, outside {}, invalid {}; "
+        report << fmt::format("{} {} with {} in {}: inside {}, boundary {}, outside {}, invalid {}; "
                                  "values in [{}, {}] (write them with -o FILE)\n",
-                                 o.positional[0], grid_text(grid), engine->name(),
+                                 shown_script_name(o.positional[0]), grid_text(grid), engine->name(),
                                  format_duration(eval_seconds), stats.positive, stats.zero, stats.negative,
                                  stats.invalid, stats.min, stats.max);
     }
     if (o.stats) {
         const IrStats s = ir_stats(*model);
-        std::cout << fmt::format(
+        report << fmt::format(
             "model: {}\ngrid: {} = {} points, x [{}, {}], y [{}, {}]{}\n"
             "nodes: {} ({} operations), shared: {}, hash-consing reuses: {}\n"
             "classic cost: {} operations per point; voxel: {}{}\n"
@@ -295,7 +330,7 @@ int command_run(const CliOptions& o) {
             "speed: {} points/s\n"
             "values: min {}, max {}, inside {}, boundary {}, outside {}, invalid {}\n"
             "peak memory: {} evaluating, {} in all\n",
-            o.positional[0], grid_text(grid), format_operations(double(grid.points())), grid.x.min, grid.x.max,
+            shown_script_name(o.positional[0]), grid_text(grid), format_operations(double(grid.points())), grid.x.min, grid.x.max,
             grid.y.min, grid.y.max, grid.dims == 3 ? fmt::format(", z [{}, {}]", grid.z.min, grid.z.max) : "",
             s.nodes, s.operations, s.shared, s.reuses, format_operations(s.classic_operations),
             format_operations(double(s.operations)),

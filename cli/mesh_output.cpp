@@ -3,6 +3,7 @@
 
 #include "cli/model_setup.hpp"
 #include "cli/option_table.hpp"
+#include "cli/standard_streams.hpp"
 #include "interp/ir_print.hpp"
 #include "interp/mesher.hpp"
 #include "runtime/output.hpp"
@@ -47,20 +48,25 @@ int run_mesh_output(const Model& model, const Grid& grid, const CliOptions& o, d
         std::cerr << fmt::format("fortu: warning: the surface does not cross the domain x [{}, {}], y [{}, {}], "
                                  "z [{}, {}]: the mesh is empty\n",
                                  grid.x.min, grid.x.max, grid.y.min, grid.y.max, grid.z.min, grid.z.max);
+    if (!o.quiet)
+        std::cerr << fmt::format("wrote {} ({} triangles)\n", shown_output_path(o.output), mesh.triangles.size());
+    std::ostream& report = report_stream(o);
     if (!o.stats) {
-        std::cout << fmt::format("{}: {} triangles, {} vertices on {}x{}x{} nodes in {}; wrote {}\n", o.positional[0],
-                                 mesh.triangles.size(), mesh.vertices.size(), grid.cols(), grid.rows(), grid.slices(),
-                                 format_duration(mesh_seconds), o.output);
+        report << fmt::format("{}: {} triangles, {} vertices on {}x{}x{} nodes in {}; wrote {}\n",
+                              shown_script_name(o.positional[0]), mesh.triangles.size(), mesh.vertices.size(),
+                              grid.cols(), grid.rows(), grid.slices(), format_duration(mesh_seconds),
+                              shown_output_path(o.output));
         return 0;
     }
-    std::cout << fmt::format(
+    report << fmt::format(
         "model: {}\nmesh: {} triangles, {} vertices, {}x{}x{} nodes, x [{}, {}], y [{}, {}], z [{}, {}]\n"
         "octree: {} boxes tested, {} leaves of 8^3 cells, {} nodes evaluated ({:.2f}% of {}), "
         "{} edge solves for {} vertices\n"
         "sharp features: {} cells tested, {} vertices on edges, {} at corners, {} faces joined\n"
         "time: compile {:.3f} s, mesh {:.3f} s, write {:.3f} s\n"
         "peak memory: {} meshing, {} in all\n",
-        o.positional[0], mesh.triangles.size(), mesh.vertices.size(), grid.cols(), grid.rows(), grid.slices(),
+        shown_script_name(o.positional[0]), mesh.triangles.size(), mesh.vertices.size(), grid.cols(), grid.rows(),
+        grid.slices(),
         grid.x.min, grid.x.max, grid.y.min, grid.y.max, grid.z.min, grid.z.max, stats.boxes, stats.leaves,
         stats.node_evaluations, 100.0 * double(stats.node_evaluations) / double(grid.points()),
         format_operations(double(grid.points())), stats.edge_evaluations, stats.crossing_edges, stats.features.cells_tested,

@@ -5,6 +5,7 @@
 #include "runtime/oiio_util.hpp"
 #include "runtime/output_error.hpp"
 #include "runtime/output_path.hpp"
+#include "runtime/plugin_loader.hpp"
 #include "runtime/png_writer.hpp"
 
 #include <dlfcn.h>
@@ -25,21 +26,18 @@ struct Loaded {
     std::string error;
 };
 
-/// $FORTU_IMAGE_MODULE, next to the binary, next to the shared object this code is linked
+/// $FORTU_IMAGE_MODULE, next to the binary or in the installed plug-in folder, next to the
+/// shared object this code is linked
 /// into (the installed Python module), then where the build put it (tests run from other folders).
 Loaded load_module() {
     std::vector<std::string> candidates;
     if (const char* env = std::getenv("FORTU_IMAGE_MODULE")) candidates.emplace_back(env);
-    std::error_code ec;
-    const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-    if (!ec) {
-        candidates.push_back((exe.parent_path() / kModuleName).string());
-        candidates.push_back((exe.parent_path().parent_path() / kModuleName).string());
-    }
+    for (std::string& path : plugin_candidates(kModuleName)) candidates.push_back(std::move(path));
     Dl_info self{};
     if (dladdr(reinterpret_cast<void*>(&load_module), &self) && self.dli_fname)
         candidates.push_back((std::filesystem::path(self.dli_fname).parent_path() / kModuleName).string());
     if (*FORTU_IMAGE_MODULE_BUILD_PATH) candidates.emplace_back(FORTU_IMAGE_MODULE_BUILD_PATH);
+    std::error_code ec;
     Loaded result;
     for (const std::string& path : candidates) {
         if (!std::filesystem::exists(path, ec)) continue;

@@ -80,6 +80,7 @@ struct OutputFormat {
     DiffWriter write_diff = nullptr;             ///< nullptr: no picture of a difference
     std::string_view diff_name{};                ///< NAME.<diff_name> beside a failing golden test
     MeshWriter write_mesh = nullptr;             ///< OutputKind::Mesh rows: the writer (`write` is unused)
+    bool text = false;                           ///< plain text: `-o -` may write it to a terminal
 
     /// The usual extension, which also names the format in `// golden-output` directives.
     std::string_view extension() const { return extensions.front(); }

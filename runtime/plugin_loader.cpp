@@ -6,20 +6,32 @@
 #include <filesystem>
 #include <vector>
 
+#ifndef FORTU_PLUGIN_DIR_FROM_BIN
+#define FORTU_PLUGIN_DIR_FROM_BIN "../lib/fortu"
+#endif
+
 namespace fortu {
+
+std::vector<std::string> plugin_candidates(const std::string& file_name) {
+    std::vector<std::string> candidates;
+    std::error_code ec;
+    const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+    if (ec) return candidates;
+    const std::filesystem::path bin = exe.parent_path();
+    candidates.push_back((bin / file_name).string());
+    candidates.push_back((bin.parent_path() / file_name).string());
+    candidates.push_back((bin / FORTU_PLUGIN_DIR_FROM_BIN / file_name).lexically_normal().string());
+    return candidates;
+}
 
 void* load_plugin_entry(const std::string& file_name, const char* env_variable, const std::string& build_path,
                         const char* entry, const std::string& missing_hint, std::string& error) {
     std::vector<std::string> candidates;
     if (const char* env = std::getenv(env_variable)) candidates.emplace_back(env);
-    std::error_code ec;
-    const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-    if (!ec) {
-        candidates.push_back((exe.parent_path() / file_name).string());
-        candidates.push_back((exe.parent_path().parent_path() / file_name).string());
-    }
+    for (std::string& path : plugin_candidates(file_name)) candidates.push_back(std::move(path));
     if (!build_path.empty()) candidates.push_back(build_path);
     error.clear();
+    std::error_code ec;
     for (const std::string& path : candidates) {
         if (!std::filesystem::exists(path, ec)) continue;
         void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);

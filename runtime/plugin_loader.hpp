@@ -7,13 +7,19 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 namespace fortu {
 
+/// Where a plug-in `file_name` may be, after its environment variable: beside the running
+/// executable (/proc/self/exe; the build tree), its parent folder, and the installed layout's
+/// plug-in folder relative to it (BIN/../lib/fortu, FORTU_PLUGIN_DIR_FROM_BIN), so a
+/// package installed under any prefix finds its plug-ins.
+std::vector<std::string> plugin_candidates(const std::string& file_name);
+
 /// The value the module's `entry` function returns, or nullptr with `error` set: not found
 /// (saying `missing_hint`), not loadable (dlerror), or without the entry.
-/// Candidates: $`env_variable`, then beside /proc/self/exe and its parent folder, then
-/// `build_path`.
+/// Candidates: $`env_variable`, then plugin_candidates(), then `build_path`.
 void* load_plugin_entry(const std::string& file_name, const char* env_variable, const std::string& build_path,
                         const char* entry, const std::string& missing_hint, std::string& error);
 

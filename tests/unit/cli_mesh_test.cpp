@@ -233,7 +233,7 @@ TEST_CASE("mesh usage errors") {
     r = run_fortu("run " + ball + " --domain 2:3,2:3,2:3 --size 9 -o " + quote(dir / "e.stl"));
     CHECK(r.status == 0);
     CHECK(r.out == "fortu: warning: the surface does not cross the domain x [2, 3], y [2, 3], z [2, 3]: the mesh is "
-                   "empty\n");
+                   "empty\nwrote " + (dir / "e.stl") + " (0 triangles)\n");
 }
 
 TEST_CASE("fortu bench --mesh times the mesher per model and size") {

@@ -98,7 +98,7 @@ TEST_CASE("the option table: --opt=value, each command's --help, --version") {
                             "                                classic     ") != std::string::npos);
     CHECK(run_help.out.find("\n  --stats ") != std::string::npos);
     const auto check_help = run_fortu("check --help", ".", true);
-    CHECK(check_help.out.starts_with("usage: fortu check MODEL.fortu [options]\n"));
+    CHECK(check_help.out.starts_with("usage: fortu check MODEL.fortu... [options]\n"));
     CHECK(check_help.out.find("--rsystem") != std::string::npos);
     CHECK(check_help.out.find("--engine") == std::string::npos);
     // fortu --help's command list and each command's usage come from the same row.
@@ -223,7 +223,8 @@ TEST_CASE("run writes every output format, atomically, and reports invalid point
     const std::string inv = quote(t.write("inv.fortu", "ARGUMENT X, Y;\nRETURN 1/X;\n"));
     r = run_fortu("run " + inv + " --size 3 -o " + quote((t.path / "inv.png").string()));
     CHECK(r.status == 0);
-    CHECK(r.out == "fortu: note: 3 invalid points (non-finite values)\n");
+    CHECK(r.out == "fortu: note: 3 invalid points (non-finite values)\nwrote " + (t.path / "inv.png").string() +
+                   " (3x3)\n");
 
     r = run_fortu("run " + m + " --size 5 -o " + quote((t.path / "no_such_dir" / "x.png").string()));
     CHECK(r.status == 1);

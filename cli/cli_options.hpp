@@ -47,6 +47,12 @@ struct CliOptions {
     IrStage stage = IrStage::Lower;            ///< --stage: what `fortu ir` prints
     std::string steps;                         ///< --steps: the folder for each definition's M-images
     const Engine* compare = nullptr;           ///< --compare: the engine the result is measured against
+    std::size_t memory = 0;                    ///< --memory: a bricked run's bound in bytes (0: none given)
+    bool resume = false;                       ///< --resume: a bricked run computes only missing bricks
+    int brick = 128;                           ///< --brick: nodes per brick edge
+    std::vector<std::string> sets;             ///< --set NAME=A:B:STEP or NAME=V (a sweep over a CONSTANT)
+    std::vector<std::pair<std::string, double>> constants;  ///< one point of a sweep (CompileOptions::constants)
+    bool sweep_point = false;                  ///< a run of a sweep: one process, even under mpirun
 };
 
 /// Parses argv (without the program name). Throws UsageError.

@@ -2,6 +2,7 @@
 // repl handed to their libraries (commands.hpp). Each command here loads and
 // compiles the model through interp/, then evaluates and writes through the engines and
 // runtime/ writers. Exit status: 0 success, 1 model error, 2 usage error.
+#include "cli/brick_run.hpp"
 #include "cli/cli_options.hpp"
 #include "cli/commands.hpp"
 #include "cli/compare_report.hpp"
@@ -9,9 +10,11 @@
 #include "cli/fv_steps.hpp"
 #include "cli/mesh_output.hpp"
 #include "cli/model_setup.hpp"
+#include "cli/mpi_world.hpp"
 #include "cli/point_report.hpp"
 #include "cli/run_checks.hpp"
 #include "cli/run_grid.hpp"
+#include "cli/sweep.hpp"
 
 #include "grammar/diagnostic.hpp"
 #include "interp/classic_cost.hpp"
@@ -54,6 +57,7 @@ std::optional<Model> load_model(const CliOptions& o, bool show_notes, double& se
     options.rsystem = o.rsystem;
     options.include_dirs = stdlib_dirs();
     options.limits = o.limits;
+    options.constants = o.constants;
     std::optional<Model> model = compile_model(source, options, sink);
     for (const Diagnostic& d : sink.diagnostics())
         if (d.severity != Severity::Note || show_notes) std::cerr << render(d);
@@ -188,6 +192,7 @@ int run_shaded_view(const Model& model, const CliOptions& o) {
 }
 
 int command_run(const CliOptions& o) {
+    if (!o.sets.empty()) return run_sweep(o, command_run);
     double compile_seconds = 0;
     std::optional<Model> model = load_model(o, false, compile_seconds);
     if (!model) return kExitModelError;
@@ -201,6 +206,8 @@ int command_run(const CliOptions& o) {
         if (status != 0 || !slices_too) return status;
         return command_run(rest);
     }
+    if (wants_bricks(*model, o)) return run_bricked(*model, o, compile_seconds);
+    if (World::get().distributed() && World::get().rank() != 0 && !o.sweep_point) return 0;   // only bricks and sweeps are shared
     const Grid grid = make_grid(*model, o);
     check_outputs(o, grid);
     if (is_mesh_output(o.output)) return run_mesh_output(*model, grid, o, compile_seconds);

@@ -29,7 +29,7 @@ def check(condition, what):
 
 
 def run(args, expect=0, mpi=0):
-    cmd = ([MPIRUN, "--oversubscribe", "-np", str(mpi)] if mpi else []) + [FORTU] + args
+    cmd = ([MPIRUN, "--oversubscribe", "-np", str(mpi)] if mpi else []) + [FORTU, "run"] + args
     p = subprocess.run(cmd, capture_output=True, text=True)
     if p.returncode != expect:
         print("command:", " ".join(cmd), "\nexit", p.returncode, "\n", p.stdout, p.stderr)
@@ -99,11 +99,14 @@ if MPIRUN:
 
     # Resume: SIGKILL one rank mid-run; the job ends; --resume computes only the missing bricks.
     for ext in ("vti", "vdb"):
-        model, size = MODELS[2][1], 65
+        model, size = MODELS[2][1], 97
         ref = out(f"resume_ref.{ext}")
         run([model, "--size", str(size), "-o", ref])
         target = out(f"resume.{ext}")
-        job = subprocess.Popen([MPIRUN, "--oversubscribe", "-np", "4", FORTU, model, "--size", str(size),
+        for stale in (target, target + ".done"):
+            if os.path.exists(stale):
+                os.remove(stale)
+        job = subprocess.Popen([MPIRUN, "--oversubscribe", "-np", "4", FORTU, "run", model, "--size", str(size),
                                 "--brick", "8", "--threads", "1", "-o", target],
                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         done_map = target + ".done"
@@ -111,7 +114,7 @@ if MPIRUN:
         while time.time() < deadline:
             if os.path.exists(done_map) and len(open(done_map).read().splitlines()) > 1 + 20:
                 break
-            time.sleep(0.05)
+            time.sleep(0.005)
         ranks = subprocess.run(["ps", "-o", "pid=,args=", "--ppid", str(job.pid)], capture_output=True,
                                text=True).stdout.split("\n")
         pids = [int(line.split()[0]) for line in ranks if FORTU in line]
@@ -122,7 +125,7 @@ if MPIRUN:
         check(job.returncode != 0, f".{ext}: the job ended with the killed rank (exit {job.returncode})")
         check(not os.path.exists(target), f".{ext}: no output after the kill")
         before = len(set(open(done_map).read().splitlines()[1:]))
-        total = 9 * 9 * 9   # 65 nodes in bricks of 8
+        total = 13 * 13 * 13   # 97 nodes in bricks of 8
         p = run([model, "--size", str(size), "--brick", "8", "--threads", "1", "--resume", "--stats", "-o", target])
         m = re.search(r"(\d+) bricks of 8³ \((\d+) from the done map, (\d+) computed\)", p.stdout)
         check(m is not None, f".{ext}: --stats counts the bricks")

@@ -36,6 +36,9 @@ void add_brick_options(OptionTable& t, CliOptions& o) {
                                               "files named by %NAME in -o (out_%R.png); repeat for a\n"
                                               "product; spread over the ranks under mpirun",
              [&o](const std::string& v) { o.sets.push_back(v); });
+    t.option("--brick-times", "FILE.csv", "a bricked run appends brick,rank,seconds,evaluated,skipped\n"
+                                          "per brick to FILE.csv (load-balance studies)",
+             [&o](const std::string& v) { o.brick_times = v; });
     t.option("--brick", "N", "nodes per brick edge of a bricked run (default 128)", [&o](const std::string& v) {
         int n = 0;
         auto [ptr, ec] = std::from_chars(v.data(), v.data() + v.size(), n);

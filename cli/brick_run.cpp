@@ -19,6 +19,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cstdio>
 #include <exception>
 #include <filesystem>
 #include <fmt/format.h>
@@ -139,6 +140,13 @@ int run_bricked(const Model& model, const CliOptions& o, double compile_seconds)
     for (std::size_t b = 0; b < layout.size(); ++b)
         if (!done->done().count(b)) todo.push_back(b);
 
+    // --brick-times: appended line by line, by every rank.
+    std::unique_ptr<std::FILE, int (*)(std::FILE*)> times_file(nullptr, std::fclose);
+    if (!o.brick_times.empty() && !(times_file.reset(std::fopen(o.brick_times.c_str(), "a")), times_file))
+        throw UsageError(fmt::format("--brick-times: cannot open '{}'", o.brick_times));
+    std::FILE* times = times_file.get();
+    std::mutex times_mutex;
+
     Stopwatch clock;
     const double cpu_start = cpu_seconds();
     std::vector<WorkerStats> stats(threads);
@@ -166,6 +174,12 @@ int run_bricked(const Model& model, const CliOptions& o, double compile_seconds)
                     st.max_brick_seconds = std::max(st.max_brick_seconds, seconds);
                     st.evaluated += b.evaluated_points;
                     st.skipped += b.skipped_points;
+                    if (times) {
+                        std::lock_guard lock(times_mutex);
+                        std::fprintf(times, "%zu,%d,%.6f,%zu,%zu\n", todo[n], world.rank(), seconds,
+                                     b.evaluated_points, b.skipped_points);
+                        std::fflush(times);
+                    }
                 }
             } catch (...) {
                 std::lock_guard lock(failure_mutex);
@@ -187,6 +201,7 @@ int run_bricked(const Model& model, const CliOptions& o, double compile_seconds)
             return 1;
         }
     }
+    times_file.reset();
     const double evaluate_seconds = clock.seconds();
     const double cpu = cpu_seconds() - cpu_start;
     world.barrier();

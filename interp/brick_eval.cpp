@@ -15,10 +15,14 @@
 namespace fortu {
 namespace {
 
-/// Boxes of at most 8 nodes per axis are leaves: their points run in batches of 256 lanes
-/// (the sign renderer's batch; more lanes would multiply the scratch by a large model's
-/// thousands of SSA slots).
-constexpr int kLeafEdge = 8;
+/// Boxes of at most 8 nodes per axis are leaves when a band lets boxes be skipped (a thin
+/// band is found at that resolution), 32 when every value is wanted (then a box only
+/// shortens its tape, and smaller boxes cost more in intervals and simplification than
+/// they save: tanglecube.vm 512³ took 3x the in-memory CPU time with 8³ leaves).
+/// Their points run in batches of 256 lanes (the sign renderer's batch; more lanes would
+/// multiply the scratch by a large model's thousands of SSA slots).
+constexpr int kSparseLeafEdge = 8;
+constexpr int kDenseLeafEdge = 32;
 constexpr int kLanes = 256;
 
 }  // namespace
@@ -31,6 +35,8 @@ struct BrickEvaluator::Impl {
     BoxScratch scratch;
     std::vector<double> lanes;
     std::vector<double*> slots;
+    std::array<std::vector<double>, 3> coords;   ///< a leaf's coordinates per axis
+    int lane_at[3][kLanes];                      ///< each lane's index into coords, per axis
     // The brick being evaluated.
     BrickBox brick;
     double* out = nullptr;
@@ -66,14 +72,15 @@ struct BrickEvaluator::Impl {
         }
         simplify_for_sign(parent, ranges, scratch, shortened, /*keep_values=*/true);
         const std::array<int, 3> e = box.extent();
-        if (e[0] <= kLeafEdge && e[1] <= kLeafEdge && e[2] <= kLeafEdge) {
+        const int leaf = skip_beyond ? kSparseLeafEdge : kDenseLeafEdge;
+        if (e[0] <= leaf && e[1] <= leaf && e[2] <= leaf) {
             evaluate_points(box, shortened);
             return;
         }
         // Halve every axis longer than a leaf.
         std::vector<BrickBox> parts{box};
         for (int a = 0; a < 3; ++a) {
-            if (e[a] <= kLeafEdge) continue;
+            if (e[a] <= leaf) continue;
             const int mid = (box.lo[a] + box.hi[a]) / 2;
             std::vector<BrickBox> next;
             for (BrickBox b : parts) {
@@ -96,14 +103,30 @@ struct BrickEvaluator::Impl {
         for (auto [slot, value] : t.constants) std::fill_n(slots[slot], kLanes, value);
         const std::array<int, 3> e = box.extent();
         const int count = int(box.points());
+        // Each axis's coordinates once per box; the lanes walk the box with counters.
+        for (int a = 0; a < 3; ++a) {
+            coords[a].resize(e[a]);
+            for (int i = 0; i < e[a]; ++i) coords[a][i] = at(a, box.lo[a] + i);
+        }
         std::size_t targets[kLanes];
+        int c = 0, r = 0, z = 0;
         for (int first = 0; first < count; first += kLanes) {
             const int n = std::min(kLanes, count - first);
             for (int l = 0; l < n; ++l) {
-                const int p = first + l;
-                const int c = box.lo[0] + p % e[0], r = box.lo[1] + p / e[0] % e[1], s = box.lo[2] + p / e[0] / e[1];
-                for (auto [slot, axis] : t.arguments) slots[slot][l] = axis == 0 ? grid.x_at(c) : axis == 1 ? grid.y_at(r) : grid.z_at(s);
-                targets[l] = local(c, r, s);
+                lane_at[0][l] = c;
+                lane_at[1][l] = r;
+                lane_at[2][l] = z;
+                targets[l] = local(box.lo[0] + c, box.lo[1] + r, box.lo[2] + z);
+                if (++c == e[0]) {
+                    c = 0;
+                    if (++r == e[1]) r = 0, ++z;
+                }
+            }
+            for (auto [slot, axis] : t.arguments) {
+                double* lanes_out = slots[slot];
+                const double* axis_coords = coords[axis].data();
+                const int* index = lane_at[axis];
+                for (int l = 0; l < n; ++l) lanes_out[l] = axis_coords[index[l]];
             }
             if (n == kLanes) run_lanes<double, kLanes>(t.code.data(), t.code.size(), slots.data(), n);
             else run_lanes<double, 0>(t.code.data(), t.code.size(), slots.data(), n);

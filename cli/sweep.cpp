@@ -50,8 +50,13 @@ SweepAxis parse_sweep(const std::string& text) {
     const double count = std::floor((last - first) / step + 1e-9) + 1;
     if (count > double(kMaxSweepPoints))
         throw UsageError(fmt::format("--set: '{}' has {} values, more than {}", text, count, kMaxSweepPoints));
-    // first + k * step (not repeated addition): 0.1:1.0:0.1 gives 0.30000000000000004, not 0.30000000000000004 + drift.
-    for (std::size_t k = 0; k < std::size_t(count); ++k) axis.values.push_back(first + double(k) * step);
+    // first + k * step, read back from 15 significant digits: 0.1 + 2 * 0.1 is
+    // 0.30000000000000004, and the run must be the script with 0.3 written in, as its file
+    // name (%R: 0.3) says.
+    for (std::size_t k = 0; k < std::size_t(count); ++k) {
+        const std::string text = fmt::format("{:.15g}", first + double(k) * step);
+        axis.values.push_back(parse_number(text, text));
+    }
     return axis;
 }
 

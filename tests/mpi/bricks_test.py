@@ -87,7 +87,28 @@ p = run([MODELS[0][1], "--size", "64", "--memory", "1M", "-o", out("refused.vti"
 check("--memory 1.0 MiB: one brick of 128³ nodes needs about" in p.stderr and not os.path.exists(out("refused.vti")),
       "--memory too small: refused with the brick's need")
 
+# A sweep: one run per value of CONSTANT R, each equal to the run with that value written in.
+disc = out("disc.fortu")
+open(disc, "w").write("ARGUMENT X(-1, 1), Y(-1, 1);\nCONSTANT R = 0.5;\nRETURN R^2 - X^2 - Y^2;\n")
+run([disc, "--size", "17", "--set", "R=0.1:1.0:0.1", "-o", out("sweep_%R.npy")])
+names = ["0.1", "0.2", "0.3", "0.4", "0.5", "0.6", "0.7", "0.8", "0.9", "1"]
+check(all(os.path.exists(out(f"sweep_{n}.npy")) for n in names), "sweep: one file per value, named by %R")
+for n in ("0.3", "1"):
+    written = out(f"disc_{n}.fortu")
+    open(written, "w").write(f"ARGUMENT X(-1, 1), Y(-1, 1);\nCONSTANT R = {n};\nRETURN R^2 - X^2 - Y^2;\n")
+    run([written, "--size", "17", "-o", out(f"disc_{n}.npy")])
+    check(open(out(f"disc_{n}.npy"), "rb").read() == open(out(f"sweep_{n}.npy"), "rb").read(),
+          f"sweep: R={n} equals the script with R = {n}")
+p = run([disc, "--size", "17", "--set", "R=0.1:0.3:0.1", "-o", out("same.npy")], expect=2)
+check("--set R: '" in p.stderr and "has no %R, so every run would overwrite it" in p.stderr,
+      "sweep: a path without %R is refused")
+
 if MPIRUN:
+    # The sweep's runs shared out over 3 ranks: the same files.
+    run([disc, "--size", "17", "--set", "R=0.1:1.0:0.1", "-o", out("msweep_%R.npy")], mpi=3)
+    check(all(open(out(f"msweep_{n}.npy"), "rb").read() == open(out(f"sweep_{n}.npy"), "rb").read() for n in names),
+          "sweep over 3 ranks: every file equals the single-process one")
+
     # Over 4 ranks (oversubscribed on this machine): the same files.
     for name, model, size in MODELS:
         for ext in ("vti", "vdb"):

@@ -4,6 +4,7 @@
 // option and what was expected.
 #include "cli/cli_options.hpp"
 
+#include "cli/brick_options.hpp"
 #include "cli/fv_options.hpp"
 #include "cli/option_table.hpp"
 #include "cli/picture_options.hpp"
@@ -216,6 +217,7 @@ const CommandRow kCommands[] = {
          add_model_options(t, o);
          add_picture_options(t, o);
          add_run_outputs(t, o);
+         add_brick_options(t, o);
      }},
     {"eval", "MODEL.fortu X Y [Z] [options]", "value, gradient and M-image normal at a point",
      [](OptionTable& t, CliOptions& o, EngineChoice& c) {

@@ -52,6 +52,13 @@ struct CliOptions {
     std::vector<std::string> include_dirs;     ///< -I / --include-dir: searched by INCLUDE before FORTU_PATH
     std::string format;                        ///< --format: the format of `-o -` (standard output)
     bool quiet = false;                        ///< --quiet: no `wrote FILE` lines
+    std::size_t memory = 0;                    ///< --memory: a bricked run's bound in bytes (0: none given)
+    bool resume = false;                       ///< --resume: a bricked run computes only missing bricks
+    int brick = 128;                           ///< --brick: nodes per brick edge
+    std::string brick_times;                   ///< --brick-times: a CSV line per brick (docs/scaling.md's simulation)
+    std::vector<std::string> sets;             ///< --set NAME=A:B:STEP or NAME=V (a sweep over a CONSTANT)
+    std::vector<std::pair<std::string, double>> constants;  ///< one point of a sweep (CompileOptions::constants)
+    bool sweep_point = false;                  ///< a run of a sweep: one process, even under mpirun
 };
 
 /// `-o -` and `-o /dev/stdout`: the output goes to standard output (stdout_output.hpp).

@@ -2,6 +2,7 @@
 // repl handed to their libraries (commands.hpp). Each command here loads and
 // compiles the model through interp/, then evaluates and writes through the engines and
 // runtime/ writers. Exit status: 0 success, 1 model error, 2 usage error.
+#include "cli/brick_run.hpp"
 #include "cli/cli_options.hpp"
 #include "cli/commands.hpp"
 #include "cli/compare_report.hpp"
@@ -9,12 +10,14 @@
 #include "cli/fv_steps.hpp"
 #include "cli/mesh_output.hpp"
 #include "cli/model_setup.hpp"
+#include "cli/mpi_world.hpp"
 #include "cli/point_report.hpp"
 #include "cli/run_checks.hpp"
 #include "cli/picture_options.hpp"
 #include "cli/run_feedback.hpp"
 #include "cli/run_grid.hpp"
 #include "cli/standard_streams.hpp"
+#include "cli/sweep.hpp"
 
 #include "grammar/diagnostic.hpp"
 #include "interp/classic_cost.hpp"
@@ -61,6 +64,7 @@ std::optional<Model> load_model(const CliOptions& o, const std::string& path, bo
     options.rsystem = o.rsystem;
     options.include_dirs = include_search_path(o.include_dirs);
     options.limits = o.limits;
+    options.constants = o.constants;
     std::optional<Model> model = compile_model(source, options, sink);
     for (const Diagnostic& d : sink.diagnostics())
         if (d.severity != Severity::Note || show_notes) std::cerr << render(d);
@@ -216,6 +220,7 @@ int command_run_files(const CliOptions& o);
 
 /// `fortu run`: `-o -` writes into a temporary file sent to standard output once complete.
 int command_run(const CliOptions& o) {
+    if (!o.sets.empty()) return run_sweep(o, command_run);
     if (!is_stdout_path(o.output)) return command_run_files(o);
     StdoutOutput out(o.format);
     CliOptions to_file = o;
@@ -243,6 +248,8 @@ int command_run_files(const CliOptions& o) {
         if (status != 0 || !slices_too) return status;
         return command_run_files(rest);
     }
+    if (wants_bricks(*model, o)) return run_bricked(*model, o, compile_seconds);
+    if (World::get().distributed() && World::get().rank() != 0 && !o.sweep_point) return 0;   // only bricks and sweeps are shared
     const Grid grid = make_grid(*model, o);
     check_outputs(o, grid);
     if (is_mesh_output(o.output)) return run_mesh_output(*model, grid, o, compile_seconds);

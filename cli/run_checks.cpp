@@ -40,6 +40,8 @@ std::string identity(const std::string& path) {
     return ec ? path : canonical.string();
 }
 
+}  // namespace
+
 std::size_t available_memory() {
     std::ifstream meminfo("/proc/meminfo");
     std::string key;
@@ -49,8 +51,6 @@ std::size_t available_memory() {
         if (key == "MemAvailable:") return kib * 1024;
     return 0;   // unknown: not checked
 }
-
-}  // namespace
 
 std::vector<PlannedFile> planned_files(const CliOptions& o, const Grid& grid) {
     std::vector<PlannedFile> out;

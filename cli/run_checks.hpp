@@ -31,6 +31,9 @@ void check_outputs(const CliOptions& o, const Grid& grid);
 /// writer's buffers. An estimate, on the high side.
 std::size_t estimated_run_bytes(const CliOptions& o, const Grid& grid);
 
+/// MemAvailable of /proc/meminfo in bytes; 0 when unknown.
+std::size_t available_memory();
+
 /// Throws UsageError when estimated_run_bytes() exceeds `available` (MemAvailable by
 /// default) unless --force.
 void check_memory(const CliOptions& o, const Grid& grid, std::size_t available = 0);

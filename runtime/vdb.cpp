@@ -12,7 +12,6 @@
 #endif
 
 namespace fortu {
-namespace {
 
 const VdbModule* vdb_module(std::string& error) {
     static std::once_flag once;
@@ -29,8 +28,6 @@ const VdbModule* vdb_module(std::string& error) {
     error = load_error;
     return module;
 }
-
-}  // namespace
 
 void write_vdb(const Field& field, const OutputTarget& target, const OutputOptions& options) {
     std::string error;

@@ -41,6 +41,9 @@ constexpr std::string_view kTrailer = "\n  </AppendedData>\n</VTKFile>\n";
 
 }  // namespace
 
+std::string vti_header(const Grid& grid) { return header_text(grid, false); }
+std::string_view vti_trailer() { return kTrailer; }
+
 void write_vti(const Field& field, const OutputTarget& target, const OutputOptions& options) {
     const Grid& g = field.grid;
     const std::uint64_t bytes = 8 * std::uint64_t(g.points());

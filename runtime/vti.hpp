@@ -15,6 +15,12 @@ namespace fortu {
 /// Writes the .vti (options.mimages: with the n components). Throws OutputError.
 void write_vti(const Field& field, const OutputTarget& target, const OutputOptions& options);
 
+/// The bytes before the value array of a .vti write_vti() writes for `grid` without
+/// M-images (the header, then the array's UInt64 length follows), and those after it: a
+/// bricked run (brick_output.hpp) writes the same file at offsets.
+std::string vti_header(const Grid& grid);
+std::string_view vti_trailer();
+
 /// The "value" array of a .vti that write_vti() wrote for `grid`, in fortu's image order, or
 /// nullopt when the file is not one (the golden comparator reads it back).
 std::optional<std::vector<double>> read_vti_values(const std::string& path, const Grid& grid);

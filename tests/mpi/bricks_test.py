@@ -1,0 +1,161 @@
+#!/usr/bin/python3
+"""tests/mpi/bricks_test.py — bricked runs (--memory, mpirun, --resume) against the in-memory run.
+
+Reads every .vti with its own parser (XML header, raw appended Float64 array, numpy) and
+compares values bit for bit; a .vdb is compared byte for byte except its archive UUID (the
+same tree encodes to the same bytes). Usage:
+  bricks_test.py FORTU SHARED_DIR SOURCE_DIR WORK_DIR [MPIRUN]
+Without MPIRUN only the single-process checks run.
+"""
+import os
+import re
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+FORTU, SHARED, SOURCE, WORK = sys.argv[1:5]
+MPIRUN = sys.argv[5] if len(sys.argv) > 5 else None
+os.makedirs(WORK, exist_ok=True)
+FAILURES = []
+
+
+def check(condition, what):
+    print(("ok   " if condition else "FAIL ") + what, flush=True)
+    if not condition:
+        FAILURES.append(what)
+
+
+def run(args, expect=0, mpi=0):
+    cmd = ([MPIRUN, "--oversubscribe", "-np", str(mpi)] if mpi else []) + [FORTU, "run"] + args
+    p = subprocess.run(cmd, capture_output=True, text=True)
+    if p.returncode != expect:
+        print("command:", " ".join(cmd), "\nexit", p.returncode, "\n", p.stdout, p.stderr)
+    check(p.returncode == expect, f"exit {expect}: {' '.join(cmd[-6:])}")
+    return p
+
+
+def read_vti(path):
+    data = open(path, "rb").read()
+    head = data[: data.index(b"<AppendedData")].decode()
+    extent = [int(v) for v in re.search(r'WholeExtent="([^"]+)"', head).group(1).split()]
+    nx, ny, nz = extent[1] - extent[0] + 1, extent[3] - extent[2] + 1, extent[5] - extent[4] + 1
+    start = data.index(b"_", data.index(b"<AppendedData")) + 1
+    size = int(np.frombuffer(data[start:start + 8], dtype="<u8")[0])
+    assert size == 8 * nx * ny * nz, (size, nx, ny, nz)
+    values = np.frombuffer(data[start + 8:start + 8 + size], dtype="<f8").reshape(nz, ny, nx)
+    assert data[start + 8 + size:].startswith(b"\n  </AppendedData>")
+    return values
+
+
+def same_vti(a, b):
+    va, vb = read_vti(a), read_vti(b)
+    return va.shape == vb.shape and np.array_equal(va.view("<u8"), vb.view("<u8"))
+
+
+def vdb_bytes(path):
+    uuid = rb"[0-9a-f]{8}-[0-9a-f]{4}-[0-9a-f]{4}-[0-9a-f]{4}-[0-9a-f]{12}"
+    return re.sub(uuid, b"UUID", open(path, "rb").read(), count=1)
+
+
+MODELS = [
+    ("sphere", os.path.join(SOURCE, "examples", "floz3_sphere80.fortu"), 41),
+    ("tor", os.path.join(SHARED, "data", "ranok-scripts", "Tor.fortu"), 37),
+    ("bear", os.path.join(SHARED, "data", "bear.vm"), 33),
+]
+
+
+def out(name):
+    return os.path.join(WORK, name)
+
+
+# In memory, then in bricks on one process: the same values, the same .vdb.
+for name, model, size in MODELS:
+    for ext in ("vti", "vdb"):
+        ref = out(f"{name}_mem.{ext}")
+        run([model, "--size", str(size), "-o", ref])
+        got = out(f"{name}_bricks.{ext}")
+        run([model, "--size", str(size), "--memory", "1G", "--brick", "16", "-o", got])
+        same = same_vti(ref, got) if ext == "vti" else vdb_bytes(ref) == vdb_bytes(got)
+        check(same, f"{name}: bricked .{ext} equals the in-memory one")
+        check(not os.path.exists(got + ".done"), f"{name}: the done map is removed when the .{ext} is complete")
+
+# A bound that cannot hold one brick is refused before any work.
+p = run([MODELS[0][1], "--size", "64", "--memory", "1M", "-o", out("refused.vti")], expect=2)
+check("--memory 1.0 MiB: one brick of 128³ nodes needs about" in p.stderr and not os.path.exists(out("refused.vti")),
+      "--memory too small: refused with the brick's need")
+
+# A sweep: one run per value of CONSTANT R, each equal to the run with that value written in.
+disc = out("disc.fortu")
+open(disc, "w").write("ARGUMENT X(-1, 1), Y(-1, 1);\nCONSTANT R = 0.5;\nRETURN R^2 - X^2 - Y^2;\n")
+run([disc, "--size", "17", "--set", "R=0.1:1.0:0.1", "-o", out("sweep_%R.npy")])
+names = ["0.1", "0.2", "0.3", "0.4", "0.5", "0.6", "0.7", "0.8", "0.9", "1"]
+check(all(os.path.exists(out(f"sweep_{n}.npy")) for n in names), "sweep: one file per value, named by %R")
+for n in ("0.3", "1"):
+    written = out(f"disc_{n}.fortu")
+    open(written, "w").write(f"ARGUMENT X(-1, 1), Y(-1, 1);\nCONSTANT R = {n};\nRETURN R^2 - X^2 - Y^2;\n")
+    run([written, "--size", "17", "-o", out(f"disc_{n}.npy")])
+    check(open(out(f"disc_{n}.npy"), "rb").read() == open(out(f"sweep_{n}.npy"), "rb").read(),
+          f"sweep: R={n} equals the script with R = {n}")
+p = run([disc, "--size", "17", "--set", "R=0.1:0.3:0.1", "-o", out("same.npy")], expect=2)
+check("--set R: '" in p.stderr and "has no %R, so every run would overwrite it" in p.stderr,
+      "sweep: a path without %R is refused")
+
+if MPIRUN:
+    # The sweep's runs shared out over 3 ranks: the same files.
+    run([disc, "--size", "17", "--set", "R=0.1:1.0:0.1", "-o", out("msweep_%R.npy")], mpi=3)
+    check(all(open(out(f"msweep_{n}.npy"), "rb").read() == open(out(f"sweep_{n}.npy"), "rb").read() for n in names),
+          "sweep over 3 ranks: every file equals the single-process one")
+
+    # Over 4 ranks (oversubscribed on this machine): the same files.
+    for name, model, size in MODELS:
+        for ext in ("vti", "vdb"):
+            got = out(f"{name}_mpi.{ext}")
+            run([model, "--size", str(size), "--brick", "8", "--threads", "1", "-o", got], mpi=4)
+            ref = out(f"{name}_mem.{ext}")
+            same = same_vti(ref, got) if ext == "vti" else vdb_bytes(ref) == vdb_bytes(got)
+            check(same, f"{name}: 4 ranks' .{ext} equals the single-process one")
+
+    # Resume: SIGKILL one rank mid-run; the job ends; --resume computes only the missing bricks.
+    for ext in ("vti", "vdb"):
+        model, size = MODELS[2][1], 97
+        ref = out(f"resume_ref.{ext}")
+        run([model, "--size", str(size), "-o", ref])
+        target = out(f"resume.{ext}")
+        for stale in (target, target + ".done"):
+            if os.path.exists(stale):
+                os.remove(stale)
+        job = subprocess.Popen([MPIRUN, "--oversubscribe", "-np", "4", FORTU, "run", model, "--size", str(size),
+                                "--brick", "8", "--threads", "1", "-o", target],
+                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        done_map = target + ".done"
+        deadline = time.time() + 120
+        while time.time() < deadline:
+            if os.path.exists(done_map) and len(open(done_map).read().splitlines()) > 1 + 20:
+                break
+            time.sleep(0.005)
+        ranks = subprocess.run(["ps", "-o", "pid=,args=", "--ppid", str(job.pid)], capture_output=True,
+                               text=True).stdout.split("\n")
+        pids = [int(line.split()[0]) for line in ranks if FORTU in line]
+        check(len(pids) == 4, f".{ext}: 4 ranks found under mpirun ({len(pids)})")
+        if pids:
+            os.kill(pids[1], signal.SIGKILL)
+        job.wait(timeout=120)
+        check(job.returncode != 0, f".{ext}: the job ended with the killed rank (exit {job.returncode})")
+        check(not os.path.exists(target), f".{ext}: no output after the kill")
+        before = len(set(open(done_map).read().splitlines()[1:]))
+        total = 13 * 13 * 13   # 97 nodes in bricks of 8
+        p = run([model, "--size", str(size), "--brick", "8", "--threads", "1", "--resume", "--stats", "-o", target])
+        m = re.search(r"(\d+) bricks of 8³ \((\d+) from the done map, (\d+) computed\)", p.stdout)
+        check(m is not None, f".{ext}: --stats counts the bricks")
+        if m:
+            check(int(m.group(1)) == total and int(m.group(2)) == before and int(m.group(3)) == total - before,
+                  f".{ext}: resumed {m.group(2)} bricks from the done map ({before} recorded), computed {m.group(3)}")
+            check(0 < before < total, f".{ext}: the kill came mid-run ({before} of {total} bricks done)")
+        same = same_vti(ref, target) if ext == "vti" else vdb_bytes(ref) == vdb_bytes(target)
+        check(same, f".{ext}: the resumed result equals an uninterrupted run")
+
+print(f"{len(FAILURES)} failure(s)")
+sys.exit(1 if FAILURES else 0)

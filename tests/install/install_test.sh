@@ -28,10 +28,11 @@ printf "INCLUDE 'nowhere.fortu';\nARGUMENT X, Y;\nRETURN 1;\n" > "$work/missing.
 cd /tmp
 clean="env -u FORTU_STDLIB -u FORTU_PATH -u FORTU_EXAMPLES -u FORTU_IMAGE_MODULE"
 
-# The stdlib through INCLUDE, and the image plug-in from lib/fortu (LD_DEBUG names the file loaded).
-$clean LD_DEBUG=files "$fortu" run "$work/inc.fortu" --size 64 -o "$work/x.png" 2> "$work/run.log" \
+# The stdlib through INCLUDE, and the image plug-in from lib/fortu (LD_DEBUG names the file loaded;
+# an .exr needs the plug-in, a .png is written by the core).
+$clean LD_DEBUG=files "$fortu" run "$work/inc.fortu" --size 64 -o "$work/x.exr" 2> "$work/run.log" \
   || { cat "$work/run.log" | grep -v '^ *[0-9]*:' >&2; fail "run with INCLUDE failed"; }
-grep -q "wrote $work/x.png (64x64)" "$work/run.log" || fail "no 'wrote' line: $(grep -v '^ *[0-9]*:' "$work/run.log")"
+grep -q "wrote $work/x.exr (64x64)" "$work/run.log" || fail "no 'wrote' line: $(grep -v '^ *[0-9]*:' "$work/run.log")"
 grep -q "file=$usr/$plugins/libfortu_image.so" "$work/run.log" || fail "the image plug-in was not loaded from $plugins"
 
 # A missing INCLUDE names the installed stdlib, not the build tree's.

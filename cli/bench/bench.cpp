@@ -30,7 +30,7 @@ constexpr std::string_view kBenchUsage = R"(usage:
   fortu bench --paper [--quick] [--out DIR] [--examples DIR] [--repeat N] [--threads N] [--budget OPS]
                                    the papers' experiments E1-E5: results.md, results.json, plots
   fortu bench --performance [--quick] [--data DIR] [--out DIR] [--examples DIR] [--repeat N] [--threads N]
-                                   issue 5's suite (prospero.vm, 64-segment FLOZ, Fig. 3a with
+                                   the performance suite (prospero.vm, 64-segment FLOZ, Fig. 3a with
                                    M-images) beside its targets: results.md, results.json
                                    (default --out bench-results/perf, --repeat 5)
 )";
@@ -112,7 +112,7 @@ OptionTable bench_options(BenchArgs& b) {
                      "instead of the engines: triangles, time, peak memory",
            [&b] { b.mesh = true; });
     t.flag("--paper", "the papers' experiments E1-E5", [&b] { b.paper = true; });
-    t.flag("--performance", "issue 5's suite beside its targets", [&b] { b.performance = true; });
+    t.flag("--performance", "the performance suite beside its targets", [&b] { b.performance = true; });
     t.flag("--quick", "--paper / --performance on small grids (a smoke run)", [&b] { b.quick = true; });
     t.option("--out", "DIR", "where --paper / --performance write (default bench-results[/perf])",
              [&b](const std::string& v) {
@@ -142,7 +142,7 @@ std::optional<BenchArgs> parse_bench_args(const std::vector<std::string>& args) 
     if (b.paper && !b.models.empty())
         throw UsageError("'fortu bench --paper' runs the papers' models; give no MODEL with it");
     if (b.performance && !b.models.empty())
-        throw UsageError("'fortu bench --performance' runs issue 5's models; give no MODEL with it");
+        throw UsageError("'fortu bench --performance' runs its own suite of models; give no MODEL with it");
     if (!suite && b.models.empty())
         throw UsageError("'fortu bench': give at least one MODEL, or --paper, or --performance");
     if (!suite && (b.quick || !b.out_dir.empty() || !b.examples_dir.empty()))

@@ -132,7 +132,7 @@ std::string target_text(const RowResult& r, bool quick) {
 }
 
 std::string rows_markdown(const std::vector<RowResult>& rows, bool quick) {
-    std::string md = "| work | fortu (median) | target | reference (issues 5 and 13, this kind of machine) |\n|---|---|---|---|\n";
+    std::string md = "| work | fortu (median) | target | reference (measured on this kind of machine) |\n|---|---|---|---|\n";
     for (const RowResult& r : rows)
         md += fmt::format("| {} | {} | {} | {} |\n", r.label, fortu_text(r), target_text(r, quick), r.work->reference);
     return md;

@@ -178,7 +178,7 @@ TEST_CASE("fortu bench: the variants' and the suites' options") {
     CHECK(error("--paper --performance") ==
           "fortu: error: 'fortu bench': --paper and --performance are two runs; give one\n");
     CHECK(error("--performance " + m) ==
-          "fortu: error: 'fortu bench --performance' runs issue 5's models; give no MODEL with it\n");
+          "fortu: error: 'fortu bench --performance' runs its own suite of models; give no MODEL with it\n");
     CHECK(error("--performance --sizes 100") ==
           "fortu: error: 'fortu bench --performance' chooses its own sizes and writes its files to --out DIR\n");
     CHECK(error("--performance --json x.json") ==

@@ -28,9 +28,15 @@ def check(condition, what):
         FAILURES.append(what)
 
 
+# Under AddressSanitizer, LeakSanitizer reports Open MPI's own allocations at exit (libmpi and
+# its dlopened components, unmatchable by a suppression once unloaded): ranks under mpirun run
+# without leak detection; every single-process run here and in the other suites keeps it.
+MPI_ENV = dict(os.environ, ASAN_OPTIONS=(os.environ.get("ASAN_OPTIONS", "") + ":detect_leaks=0").lstrip(":"))
+
+
 def run(args, expect=0, mpi=0):
     cmd = ([MPIRUN, "--oversubscribe", "-np", str(mpi)] if mpi else []) + [FORTU, "run"] + args
-    p = subprocess.run(cmd, capture_output=True, text=True)
+    p = subprocess.run(cmd, capture_output=True, text=True, env=MPI_ENV if mpi else None)
     if p.returncode != expect:
         print("command:", " ".join(cmd), "\nexit", p.returncode, "\n", p.stdout, p.stderr)
     check(p.returncode == expect, f"exit {expect}: {' '.join(cmd[-6:])}")
@@ -129,7 +135,7 @@ if MPIRUN:
                 os.remove(stale)
         job = subprocess.Popen([MPIRUN, "--oversubscribe", "-np", "4", FORTU, "run", model, "--size", str(size),
                                 "--brick", "8", "--threads", "1", "-o", target],
-                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=MPI_ENV)
         done_map = target + ".done"
         deadline = time.time() + 120
         while time.time() < deadline:

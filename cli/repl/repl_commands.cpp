@@ -253,6 +253,18 @@ void Repl::eval(const std::vector<std::string>& args) {
     io_.out << point_report(m, p, *engine_, session_.grid());
 }
 
+std::optional<SurfaceImage> Repl::shaded_view(const ViewDirection& view, int width, int height) {
+    const Model& m = session_.model();
+    const Grid cube = session_.grid();
+    const std::array<AxisRange, 3> box{AxisRange{cube.x.min, cube.x.max}, AxisRange{cube.y.min, cube.y.max},
+                                       AxisRange{cube.z.min, cube.z.max}};
+    EvalOptions options;
+    options.cancel = io_.interrupt;
+    SurfaceImage image = render_shaded_view(m.graph, m.root, box, view, width, height, options);
+    if (io_.interrupt && io_.interrupt->load()) return std::nullopt;
+    return image;
+}
+
 std::optional<Repl::PictureChoice> Repl::picture_choice(const std::string& command,
                                                         const std::vector<std::string>& args) {
     PictureChoice choice;
@@ -352,15 +364,10 @@ void Repl::show(const std::vector<std::string>& args) {
                                                         kAsciiOutside, kAsciiContour);
     const Model& m = session_.model();
     if (m.dims() == 3 && !choice->slice) {
-        const Grid cube = session_.grid();
-        const std::array<AxisRange, 3> box{AxisRange{cube.x.min, cube.x.max}, AxisRange{cube.y.min, cube.y.max},
-                                           AxisRange{cube.z.min, cube.z.max}};
-        EvalOptions options;
-        options.cancel = io_.interrupt;
-        const SurfaceImage image = render_shaded_view(m.graph, m.root, box, choice->view, max_w, max_h, options);
-        if (io_.interrupt && io_.interrupt->load()) return error("interrupted");
-        io_.out << terminal_surface_picture(image, io_.colour);
-        io_.out << fmt::format("{}; shaded view, {}; {}\n", extent_text(cube), view_text(choice->view),
+        const std::optional<SurfaceImage> image = shaded_view(choice->view, max_w, max_h);
+        if (!image) return error("interrupted");
+        io_.out << terminal_surface_picture(*image, io_.colour);
+        io_.out << fmt::format("{}; shaded view, {}; {}\n", extent_text(session_.grid()), view_text(choice->view),
                                io_.colour ? "cut faces cream"
                                           : fmt::format("{} surface, {} cut by the domain", kAsciiSurface, kAsciiCut));
         return;
@@ -408,14 +415,9 @@ void Repl::render(const std::string& path, const std::vector<std::string>& args)
         const std::vector<int>& size = session_.size();
         if (size.size() == 3) return error(":render: a shaded view is a picture; give :size N or :size W H");
         const int w = size.empty() ? kViewPixels : size[0], h = size.size() == 2 ? size[1] : w;
-        const Grid cube = session_.grid();
-        const std::array<AxisRange, 3> box{AxisRange{cube.x.min, cube.x.max}, AxisRange{cube.y.min, cube.y.max},
-                                           AxisRange{cube.z.min, cube.z.max}};
-        EvalOptions options;
-        options.cancel = io_.interrupt;
-        const SurfaceImage image = render_shaded_view(m.graph, m.root, box, choice->view, w, h, options);
-        if (io_.interrupt && io_.interrupt->load()) return error("interrupted");
-        write_surface_picture(image, path);
+        const std::optional<SurfaceImage> image = shaded_view(choice->view, w, h);
+        if (!image) return error("interrupted");
+        write_surface_picture(*image, path);
         io_.out << fmt::format("wrote {} ({}x{} shaded view, {})\n", path, w, h, view_text(choice->view));
         return;
     }

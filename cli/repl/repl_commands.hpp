@@ -55,6 +55,8 @@ private:
     bool need_model();
     std::optional<std::string> classic_refusal(const Engine& engine, double points) const;
     std::optional<Field> evaluate(const Grid& grid);
+    /// The session's cube as a shaded view of `width` x `height` pixels; none if interrupted.
+    std::optional<SurfaceImage> shaded_view(const ViewDirection& view, int width, int height);
 
     /// What :show and :render draw of a 3D model: a plane (--slice) or a shaded view (--view,
     /// --up; a picture's default), as `fortu run` does.

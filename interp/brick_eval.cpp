@@ -3,6 +3,7 @@
 // (keep_values: the root's value stays bit for bit) or, for sparse writers, skip it.
 #include "interp/brick_eval.hpp"
 
+#include "interp/box_halving.hpp"
 #include "interp/box_simplify.hpp"
 #include "interp/interval.hpp"
 #include "interp/lane_kernel.hpp"
@@ -78,21 +79,8 @@ struct BrickEvaluator::Impl {
             return;
         }
         // Halve every axis longer than a leaf.
-        std::vector<BrickBox> parts{box};
-        for (int a = 0; a < 3; ++a) {
-            if (e[a] <= leaf) continue;
-            const int mid = (box.lo[a] + box.hi[a]) / 2;
-            std::vector<BrickBox> next;
-            for (BrickBox b : parts) {
-                BrickBox low = b, high = b;
-                low.hi[a] = mid;
-                high.lo[a] = mid + 1;
-                next.push_back(low);
-                next.push_back(high);
-            }
-            parts = std::move(next);
-        }
-        for (const BrickBox& part : parts) walk(part, shortened, depth + 1);
+        for (const BrickBox& part : halve_axes(box, [&](int a) { return e[a] > leaf; }))
+            walk(part, shortened, depth + 1);
     }
 
     void evaluate_points(const BrickBox& box, const Tape& t) {

@@ -3,6 +3,7 @@
 // tape with the lane kernel the voxel engine uses (lane_kernel.hpp).
 #include "interp/sign_render.hpp"
 
+#include "interp/box_halving.hpp"
 #include "interp/box_simplify.hpp"
 #include "interp/interval.hpp"
 #include "interp/lane_kernel.hpp"
@@ -89,21 +90,7 @@ public:
 
     /// Halves every axis longer than one node.
     static std::vector<Box> split(const Box& box) {
-        std::vector<Box> parts{box};
-        for (int a = 0; a < 3; ++a) {
-            if (box.hi[a] == box.lo[a]) continue;
-            const int mid = (box.lo[a] + box.hi[a]) / 2;
-            std::vector<Box> next;
-            for (Box b : parts) {
-                Box low = b, high = b;
-                low.hi[a] = mid;
-                high.lo[a] = mid + 1;
-                next.push_back(low);
-                next.push_back(high);
-            }
-            parts = std::move(next);
-        }
-        return parts;
+        return halve_axes(box, [&box](int a) { return box.hi[a] != box.lo[a]; });
     }
 
     /// Depth-first: the box with its parent's tape.

@@ -5,7 +5,8 @@
 #   LIBDIR/fortu/libfortu_image.so, libfortu_vdb.so  the plug-ins (lib/fortu, or
 #                                                    lib/x86_64-linux-gnu/fortu for /usr)
 #   share/fortu/stdlib, examples, bench/models        the data folders
-#   share/man/man1/fortu.1                            help2man on the built binary + every command's --help
+#   share/man/man1/fortu.1.gz                         help2man on the built binary + every command's --help
+#                                                    (gzip -9n, as Debian's policy has installed man pages)
 #   share/bash-completion/completions/fortu, share/zsh/vendor-completions/_fortu
 # The man page and completions are generated from the binary's own help (cli/shell/generate.py),
 # which its option tables write, so they cannot drift from what it accepts.
@@ -35,8 +36,13 @@ if(Python3_Interpreter_FOUND)
               --include=${FORTU_SHELL_DIR}/commands.h2m --output=${FORTU_SHELL_DIR}/fortu.1 $<TARGET_FILE:fortu>
       DEPENDS fortu ${FORTU_SHELL_DIR}/commands.h2m
       COMMENT "man page from fortu --help (help2man)" VERBATIM)
-    list(APPEND FORTU_SHELL_FILES ${FORTU_SHELL_DIR}/fortu.1)
-    install(FILES ${FORTU_SHELL_DIR}/fortu.1 DESTINATION ${CMAKE_INSTALL_MANDIR}/man1)
+    find_program(FORTU_GZIP gzip REQUIRED)
+    add_custom_command(OUTPUT ${FORTU_SHELL_DIR}/fortu.1.gz
+      COMMAND ${FORTU_GZIP} -9nkf ${FORTU_SHELL_DIR}/fortu.1
+      DEPENDS ${FORTU_SHELL_DIR}/fortu.1
+      COMMENT "man page compressed (gzip -9n)" VERBATIM)
+    list(APPEND FORTU_SHELL_FILES ${FORTU_SHELL_DIR}/fortu.1.gz)
+    install(FILES ${FORTU_SHELL_DIR}/fortu.1.gz DESTINATION ${CMAKE_INSTALL_MANDIR}/man1)
   else()
     message(STATUS "help2man not found: no man page (apt-get install help2man)")
   endif()

@@ -15,7 +15,7 @@ DESTDIR="$stage" "$cmake" --install "$build" --prefix /usr > "$stage/install.log
 usr="$stage/usr"
 for f in bin/fortu "$plugins/libfortu_image.so" share/fortu/stdlib/shapes.fortu \
          share/fortu/examples/circles_parabola.fortu share/fortu/bench/models/floz64.vm \
-         share/man/man1/fortu.1 share/bash-completion/completions/fortu share/zsh/vendor-completions/_fortu; do
+         share/man/man1/fortu.1.gz share/bash-completion/completions/fortu share/zsh/vendor-completions/_fortu; do
   [ -f "$usr/$f" ] || fail "missing $f"
 done
 if [ -f "$build/libfortu_vdb.so" ]; then [ -f "$usr/$plugins/libfortu_vdb.so" ] || fail "missing libfortu_vdb.so"; fi
@@ -48,8 +48,8 @@ $clean "$fortu" run "$usr/share/fortu/examples/circles_parabola.fortu" --size 32
 [ -s "$work/c.png" ] || fail "no c.png"
 
 # The man page holds every command's options; bash completes --engine's values.
-grep -q 'fortu singular' "$usr/share/man/man1/fortu.1" || fail "the man page lacks the commands"
-grep -q '\\-\\-contour' "$usr/share/man/man1/fortu.1" || fail "the man page lacks --contour"
+zgrep -q 'fortu singular' "$usr/share/man/man1/fortu.1.gz" || fail "the man page lacks the commands"
+zgrep -q '\\-\\-contour' "$usr/share/man/man1/fortu.1.gz" || fail "the man page lacks --contour"
 engines=$(bash -c ". '$usr/share/bash-completion/completions/fortu'; COMP_WORDS=(fortu run --engine ''); COMP_CWORD=3; _fortu; echo \${COMPREPLY[*]}")
 [ "$engines" = "classic voxel voxel-f32 sign fv" ] || fail "bash completion of --engine: '$engines'"
 echo "install test: ok ($usr)"

@@ -309,6 +309,7 @@ int command_run_files(const CliOptions& o) {
     }
     const double write_seconds = write_clock.seconds();
     std::cerr << written_lines(o, grid);
+    if (steps) std::cerr << written_steps_line(o, grid, steps->files());
     std::ostream& report = report_stream(o);
     if (o.compare) {
         const std::unique_ptr<Engine> reference = o.compare->tuned(o.engine_settings);

@@ -6,6 +6,7 @@
 #include "runtime/output_formats.hpp"
 #include "runtime/output_path.hpp"
 
+#include <filesystem>
 #include <fmt/format.h>
 
 namespace fortu {
@@ -40,6 +41,14 @@ std::string written_lines(const CliOptions& o, const Grid& grid) {
         lines += fmt::format("wrote {} ({})\n", shown_output_path(file.path), size);
     }
     return lines;
+}
+
+std::string written_steps_line(const CliOptions& o, const Grid& grid, const std::vector<std::string>& files) {
+    if (o.quiet || files.empty()) return {};
+    const auto name = [](const std::string& path) { return std::filesystem::path(path).filename().string(); };
+    return fmt::format("wrote {} step file{} ({}) into {}: {}{}\n", files.size(), files.size() == 1 ? "" : "s",
+                       plane_size(grid), shown_output_path(o.steps), name(files.front()),
+                       files.size() == 1 ? "" : " ... " + name(files.back()));
 }
 
 std::string written_picture_line(const CliOptions& o, const std::string& path, int width, int height) {

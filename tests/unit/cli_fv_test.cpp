@@ -33,7 +33,7 @@ TEST_CASE("--steps writes every definition's value picture and M-images, named i
     const std::string m = quote(t.write("steps.fortu", kSteps));
     const auto r = run_fortu("run " + m + " --engine fv --size 9 --steps " + quote(t / "steps"));
     CHECK(r.status == 0);
-    CHECK(r.out == "");
+    CHECK(r.out == "wrote 20 step files (9x9) into " + (t / "steps") + ": 01_A.png ... 04_RETURN_m4.png\n");
     std::vector<std::string> expected;
     for (const char* step : {"01_A", "02_B", "03_C", "04_RETURN"}) {
         expected.push_back(std::string(step) + ".png");

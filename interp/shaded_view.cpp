@@ -26,6 +26,10 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr int kLeafPixels = 4;
 constexpr int kLeafDepth = 32;
 constexpr int kLeafLanes = kLeafPixels * kLeafPixels * kLeafDepth;
+// Regions split in two, so a level removes little of the tape: shortening it every fifth level
+// (and at the leaves) spent 15-20% less time than every level on bear.vm and the pawn at 512²
+// (one thread, median of 5; every 2nd or 3rd level in between), with the same pictures.
+constexpr std::size_t kSimplifyEvery = 5;
 /// Tiles handed to the workers.
 constexpr int kTilePixels = 64;
 
@@ -139,11 +143,15 @@ public:
         evaluate_intervals(tape, axes, s.ranges);
         const Interval& v = s.ranges[tape.root_slot];
         if (v.negative()) return;
-        if (s.tapes.size() <= depth) s.tapes.push_back(std::make_unique<Tape>());
-        Tape& simplified = *s.tapes[depth];
-        simplify_for_sign(tape, s.ranges, s.box, simplified);
-        if (r.c1 - r.c0 < kLeafPixels && r.r1 - r.r0 < kLeafPixels && r.k1 - r.k0 < kLeafDepth) {
-            evaluate_leaf(r, simplified, s);
+        const bool leaf = r.c1 - r.c0 < kLeafPixels && r.r1 - r.r0 < kLeafPixels && r.k1 - r.k0 < kLeafDepth;
+        const Tape* next = &tape;
+        if (leaf || depth % kSimplifyEvery == 0) {
+            while (s.tapes.size() <= depth) s.tapes.push_back(std::make_unique<Tape>());
+            simplify_for_sign(tape, s.ranges, s.box, *s.tapes[depth]);
+            next = s.tapes[depth].get();
+        }
+        if (leaf) {
+            evaluate_leaf(r, *next, s);
             return;
         }
         // Split the longest of (columns, rows, depth); depth front half first.
@@ -159,8 +167,8 @@ public:
             a.r1 = (r.r0 + r.r1) / 2;
             b.r0 = a.r1 + 1;
         }
-        render(a, simplified, s, depth + 1);
-        render(b, simplified, s, depth + 1);
+        render(a, *next, s, depth + 1);
+        render(b, *next, s, depth + 1);
     }
 
 private:

@@ -63,13 +63,16 @@ std::string parse_size(GoldenTest& t, const std::vector<std::string>& specs) {
             const auto c = count(spec.substr(at, x == std::string::npos ? std::string::npos : x - at));
             if (!c) return fmt::format("golden-size: '{}' is not N, WxH or WxHxD (positive node counts)", spec);
             n.push_back(*c);
+            // Checked while reading: the product of many components overflows (found by fuzzing).
+            if (n.size() > 3)
+                return fmt::format("golden-size: '{}' is not N, WxH or WxHxD (at most 3 node counts)", spec);
             if (x == std::string::npos) break;
             at = x + 1;
         }
         long points = 1;
         for (int v : n) points *= v;
         if (n.size() == 1) points *= long(n[0]) * n[0];
-        if (n.size() > 3 || points > kMaxGoldenPoints)
+        if (points > kMaxGoldenPoints)
             return fmt::format("golden-size: '{}' is too large for a golden test (at most {} points)", spec,
                                kMaxGoldenPoints);
         if (n.size() == 1) {

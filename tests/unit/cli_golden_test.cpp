@@ -1,5 +1,6 @@
 // tests/unit/cli_golden_test.cpp — the tests of the tester: `fortu golden` over small suites
 // made in temporary folders (issue 7's acceptance), with its exact report lines.
+#include "cli/golden/golden_spec.hpp"
 #include "cli_support.hpp"
 #include "test_support.hpp"
 
@@ -250,6 +251,16 @@ TEST_CASE("malformed directives, missing expectations and wrong singular points 
           "  line 2: golden-size: '0x4' is not N, WxH or WxHxD (positive node counts)\n"
           "FAIL value.fortu: line 1: expect-value wants `X Y[ Z]: VALUE [+- TOLERANCE]`\n"
           "5 tests: 0 passed, 5 failed\n");
+}
+
+TEST_CASE("golden-size with more than three components is refused before its product can overflow") {
+    // Found by fuzz_golden_directive: 21 components multiplied to past 2^63.
+    fortu::GoldenTest test;
+    CHECK(fortu::apply_directive(test, "golden-size 7x8x8x8x8x88x8x8x8x8x8x8x8x8x8x8x8x8x8x88x8", 2) ==
+          "golden-size: '7x8x8x8x8x88x8x8x8x8x8x8x8x8x8x8x8x8x8x88x8' is not N, WxH or WxHxD (at most 3 node counts)");
+    CHECK(fortu::apply_directive(test, "golden-size 65536x65536x65536", 2) ==
+          "golden-size: '65536x65536x65536' is too large for a golden test (at most 4194304 points)");
+    CHECK(fortu::apply_directive(test, "golden-size 4x5x6", 2) == "");
 }
 
 TEST_CASE("a manifest runs scripts kept elsewhere, with references beside it") {

@@ -178,7 +178,7 @@ def run_group(group_rows, threads_list, repeat, writer, fh):
             c["runs"].append(r)
             writer.writerow([group_rows[0]["group"], c["label"], c["threads"], rnd, pos,
                              "%.3f" % r["ms"], "%.1f" % r["rss_mib"], r["own_mib"],
-                             "%.3f" % r["wall_s"], before, r["count"], r["command"]])
+                             "%.3f" % r["wall_s"], before, r.get("count", ""), r["command"]])
             fh.flush()
             print("  round %d  %-28s %dt  %10.2f ms  rss %7.1f MiB  load %s"
                   % (rnd, c["label"], c["threads"], r["ms"], r["rss_mib"], before), flush=True)

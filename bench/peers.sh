@@ -210,9 +210,9 @@ build_driver() {
 # made here beside the build, with that call removed (the executable's Deck::Deck wins).
 make_deck_noopt() {
     sed 's/const auto root = root_\.optimized();/const auto\& root = root_;  \/\/ fortu peers: not optimised/' \
-        "$libfive_dir/libfive/src/eval/deck.cpp" >"$1.tmp" && grep -q 'fortu peers: not optimised' "$1.tmp" ||
+        "$libfive_dir/libfive/src/eval/deck.cpp" >"$1.$$.tmp" && grep -q 'fortu peers: not optimised' "$1.$$.tmp" ||
         { echo "libfive: eval/deck.cpp has no 'root_.optimized()' line to remove (another commit?)" >&2; return 1; }
-    if cmp -s "$1.tmp" "$1"; then rm -f "$1.tmp"; else mv "$1.tmp" "$1"; fi
+    if cmp -s "$1.$$.tmp" "$1"; then rm -f "$1.$$.tmp"; else mv "$1.$$.tmp" "$1"; fi
 }
 libfive_rows() {
     if [ "$rows" = list ]; then

@@ -150,6 +150,10 @@ def run_one(argv, threads, kind):
     if "ms" not in r:
         raise RuntimeError("no time in the output of %s:\n%s" % (" ".join(full), p.stdout + p.stderr))
     r["rss_mib"] = int(re.search(r"Maximum resident set size \(kbytes\): (\d+)", p.stderr).group(1)) / 1024
+    # CPU seconds of the whole process (user + system): on a machine loaded far beyond its
+    # cores a run waits most of its wall time, and the CPU it used is the steadier figure.
+    r["cpu_s"] = sum(float(re.search(r"%s time \(seconds\): ([0-9.]+)" % k, p.stderr).group(1))
+                     for k in ("User", "System"))
     r["wall_s"] = wall
     r["command"] = " ".join(full)
     return r
@@ -178,10 +182,10 @@ def run_group(group_rows, threads_list, repeat, writer, fh):
             c["runs"].append(r)
             writer.writerow([group_rows[0]["group"], c["label"], c["threads"], rnd, pos,
                              "%.3f" % r["ms"], "%.1f" % r["rss_mib"], r["own_mib"],
-                             "%.3f" % r["wall_s"], before, r.get("count", ""), r["command"]])
+                             "%.3f" % r["wall_s"], "%.2f" % r["cpu_s"], before, r.get("count", ""), r["command"]])
             fh.flush()
-            print("  round %d  %-28s %dt  %10.2f ms  rss %7.1f MiB  load %s"
-                  % (rnd, c["label"], c["threads"], r["ms"], r["rss_mib"], before), flush=True)
+            print("  round %d  %-28s %dt  %10.2f ms  cpu %7.2f s  rss %7.1f MiB  load %s"
+                  % (rnd, c["label"], c["threads"], r["ms"], r["cpu_s"], r["rss_mib"], before), flush=True)
     return cases
 
 
@@ -220,7 +224,8 @@ def main():
     with open(os.path.join(a.out, "runs.csv"), "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(["group", "case", "threads", "round", "position", "ms", "max_rss_mib",
-                    "fortu_own_peak_mib", "process_wall_s", "load_before", "count", "command"])
+                    "fortu_own_peak_mib", "process_wall_s", "process_cpu_s", "load_before", "count",
+                    "command"])
         groups = []
         for r in chosen:
             if r["group"] not in groups:
@@ -235,18 +240,22 @@ def main():
                     f = cases[tuple(r["fortu"][1](t))]
                     for label, make in r["peers"]:
                         table.append((r, t, f, label, cases[tuple(make(t))]))
-    med = lambda c: statistics.median(x["ms"] for x in c["runs"])
+    med = lambda c, k="ms": statistics.median(x[k] for x in c["runs"])
     lines = ["# fortu beside libfive (%s, load average %s at the end)" % (stamp, load()), "",
-             "Medians of interleaved runs (min–max); max RSS of the process; ratio = fortu median / libfive median.", "",
-             "| work | threads | fortu | libfive | fortu : libfive | fortu max RSS | libfive max RSS | runs |",
-             "|---|---|---|---|---|---|---|---|"]
+             "Medians of interleaved runs (min–max) of the tools' own timers; ratio = fortu median / "
+             "libfive median; CPU = user + system seconds of the whole process (setup included), "
+             "median; max RSS of the process.", "",
+             "| work | threads | fortu | libfive | fortu : libfive | CPU fortu / libfive (ratio) | fortu max RSS | libfive max RSS | runs |",
+             "|---|---|---|---|---|---|---|---|---|"]
     for r, t, f, label, p in table:
         fm, pm = med(f), med(p)
-        lines.append("| %s | %d | %s (%s–%s) | %s %s (%s–%s) | %.2f | %.1f MiB | %.1f MiB | %d |" % (
+        fc, pc = med(f, "cpu_s"), med(p, "cpu_s")
+        cpu = "%.2f / %.2f s (%.2f)" % (fc, pc, fc / pc if pc > 0 else float("nan"))
+        lines.append("| %s | %d | %s (%s–%s) | %s %s (%s–%s) | %.2f | %s | %.1f MiB | %.1f MiB | %d |" % (
             r["what"], t, fmt_ms(fm), fmt_ms(min(x["ms"] for x in f["runs"])),
             fmt_ms(max(x["ms"] for x in f["runs"])), label, fmt_ms(pm),
             fmt_ms(min(x["ms"] for x in p["runs"])), fmt_ms(max(x["ms"] for x in p["runs"])),
-            fm / pm, max(x["rss_mib"] for x in f["runs"]), max(x["rss_mib"] for x in p["runs"]),
+            fm / pm, cpu, max(x["rss_mib"] for x in f["runs"]), max(x["rss_mib"] for x in p["runs"]),
             len(f["runs"])))
     text = "\n".join(lines) + "\n"
     open(os.path.join(a.out, "table.md"), "w").write(text)

@@ -221,10 +221,10 @@ libfive_rows() {
         return
     fi
     if [ -n "$fetch_dir" ]; then
-        mkdir -p "$fetch_dir" || die "cannot create $fetch_dir"
-        case $(realpath "$fetch_dir")/ in
+        case $(realpath -m "$fetch_dir")/ in
             "$(realpath "$root")"/*) die "--fetch-libfive: $fetch_dir is inside the source tree; give a scratch folder outside it" ;;
         esac
+        mkdir -p "$fetch_dir" || die "cannot create $fetch_dir"
         fetch_libfive "$fetch_dir"
         libfive_dir=$fetch_dir/libfive-src
     fi

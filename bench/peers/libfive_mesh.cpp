@@ -150,6 +150,8 @@ int main(int argc, char** argv) {
     settings.workers = threads;
     const Region<3> region({-1, -1, -1}, {1, 1, 1});
     const int cells = 1 << region.withResolution(settings.min_feature).level;
+    if (cells != n)  // the octree halves the region: only a power of two is exact
+        std::cerr << "libfive_mesh: note: libfive's octree has " << cells << " cells per axis, not " << n << "\n";
     t0 = Clock::now();
     auto mesh = Mesh::render(es.data(), region, settings);
     const double ms = ms_since(t0);

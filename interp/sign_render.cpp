@@ -63,8 +63,8 @@ Value stored_sign(double sign) {
 
 /// The volume starts as outside (−1) and boxes decided outside are not written again: most
 /// of a domain is usually outside, and rewriting it row by row cost more than its intervals
-/// (tanglecube.vm 256³: 1.4 M row fills of 8–16 bytes). A cancelled render is discarded, so
-/// the nodes it never reached need not read NaN.
+/// (tanglecube.vm 256³: a quarter of the evaluation's instructions, in rows of 4–16 bytes).
+/// A cancelled render is discarded, so the nodes it never reached need not read NaN.
 constexpr double kBackgroundSign = -1.0;
 
 template <class Value>

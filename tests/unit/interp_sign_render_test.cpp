@@ -185,3 +185,37 @@ TEST_CASE("a 3D sign volume keeps one int8 per node: the same signs and statisti
     CHECK(b.zero > 0);
     CHECK(b.negative > 0);
 }
+
+TEST_CASE("the volume starts outside: boxes decided inside, on the boundary or NaN are still written") {
+    // Inside everywhere (every box decided +1), outside everywhere (nothing written after the
+    // start), and a thick shell around a cavity (both signs decided, leaves between).
+    const char* models[] = {
+        "ARGUMENT x(-1, 1), y(-1, 1), z(-1, 1);\nRETURN 1 + x*x + y*y + z*z;\n",
+        "ARGUMENT x(-1, 1), y(-1, 1), z(-1, 1);\nRETURN -1 - x*x - y*y - z*z;\n",
+        "ARGUMENT x(-1, 1), y(-1, 1), z(-1, 1);\nRETURN MIN(2.56 - x*x - y*y - z*z, x*x + y*y + z*z - 0.09);\n",
+        "ARGUMENT x(-1, 1), y(-1, 1), z(-1, 1);\nRETURN (x*x + y*y + z*z) * 0;\n",
+        "ARGUMENT x(-1, 1), y(-1, 1), z(-1, 1);\nRETURN SQRT(-1 - x*x);\n",
+    };
+    for (int m = 0; m < 5; ++m) {
+        CAPTURE(m);
+        test::Compiled c = test::compile_text(models[m]);
+        REQUIRE_MESSAGE(c.model, c.sink.render_all());
+        const Grid g = grid_for(*c.model, 0, 33);
+        SignRenderStats stats;
+        CHECK(sign_mismatches(*c.model, g, &stats) == 0);
+        const SignVolume volume = sign_render_volume(c.model->graph, c.model->root, g);
+        const FieldStats s = volume.stats();
+        if (m == 0) CHECK(s.positive == g.points());
+        if (m == 1) CHECK(s.negative == g.points());
+        if (m < 2) CHECK(stats.leaf_points == 0);  // decided by intervals alone
+        if (m == 2) {
+            // Counted apart (x² + y² + z² > 2.56 or < 0.09 over the 33³ nodes, step 1/16):
+            // the 8 corners and the cavity are outside, no node is on the boundary.
+            CHECK(s.negative == 645);
+            CHECK(s.positive == 35292);
+            CHECK(stats.decided_points > g.points() / 2);
+        }
+        if (m == 3) CHECK(s.zero == g.points());
+        if (m == 4) CHECK(s.invalid == g.points());
+    }
+}

@@ -169,11 +169,15 @@ void render_signs(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
                   SignRenderStats* stats, Signs& signs) {
     using Value = typename Signs::value_type;
     // Allocating the result (page faults: ~3 ms for 1024²) runs on its own thread while
-    // the first levels of the tree only decide boxes; their fills wait for it.
+    // the first levels of the tree only decide boxes; their fills wait for it. A SignVolume
+    // is left unwritten (huge_pages.hpp): the walk writes every node once, and NaN
+    // everywhere if it is cancelled.
+    constexpr bool kVolume = !std::is_same_v<Value, double>;
     std::exception_ptr allocation_failure;
     std::jthread allocation([&] {  // joined on any exit, so an exception cannot leave it running
         try {
-            signs.assign(grid.points(), stored_sign<Value>(std::nan("")));
+            if constexpr (kVolume) signs.resize(grid.points());
+            else signs.assign(grid.points(), stored_sign<Value>(std::nan("")));
         } catch (...) {
             allocation_failure = std::current_exception();
         }
@@ -240,6 +244,8 @@ void render_signs(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
         renderer.render(items[i].box, *items[i].tape, scratch[worker], 0, worker_stats[worker]);
         return items[i].box.points();
     });
+    if constexpr (kVolume)
+        if (options.cancel && options.cancel->load()) std::fill(signs.begin(), signs.end(), SignVolume::kNaN);
     if (stats) {
         SignRenderStats total;
         for (const SignRenderStats& w : worker_stats) {

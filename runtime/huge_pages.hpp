@@ -3,7 +3,9 @@
 //
 // Why: a 256³ int8 volume is 4,096 pages of 4 KiB, and faulting them in one at a time cost
 // more than rendering tanglecube.vm's signs; madvise(MADV_HUGEPAGE) makes it 8 faults. The
-// advice is only advice: without huge pages the buffer is an ordinary one.
+// advice is only advice: without huge pages the buffer is an ordinary one. Elements are
+// default-initialised (resize leaves them unwritten): the owner writes every one, and a
+// first pass of writes would cost as much again.
 #pragma once
 
 #include <sys/mman.h>
@@ -12,6 +14,7 @@
 #include <cstdlib>
 #include <limits>
 #include <new>
+#include <utility>
 
 namespace fortu {
 
@@ -40,6 +43,14 @@ struct HugePageAllocator {
     void deallocate(T* p, std::size_t n) noexcept {
         if (n * sizeof(T) < kHugePageBytes) ::operator delete(p);
         else std::free(p);
+    }
+    template <class U>
+    void construct(U* p) noexcept {
+        ::new (static_cast<void*>(p)) U;
+    }
+    template <class U, class... Args>
+    void construct(U* p, Args&&... args) {
+        ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
     }
     friend bool operator==(const HugePageAllocator&, const HugePageAllocator&) { return true; }
 };

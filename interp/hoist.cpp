@@ -6,9 +6,9 @@
 namespace fortu {
 
 HoistPlan plan_hoisting(const ir::Graph& graph, const std::vector<ir::NodeId>& outputs,
-                        const std::vector<ir::NodeId>& inputs, bool columns, bool rows) {
+                        const std::vector<ir::NodeId>& inputs, HoistKinds kinds) {
     HoistPlan plan;
-    constexpr unsigned kX = 1, kEverywhere = 7;
+    constexpr unsigned kX = 1, kY = 2, kZ = 4, kEverywhere = 7;
     std::vector<char> stop(graph.size(), 0), output(graph.size(), 0);
     for (ir::NodeId id : inputs) stop[id] = 1;
     for (ir::NodeId id : outputs) output[id] = 1;
@@ -23,24 +23,29 @@ HoistPlan plan_hoisting(const ir::Graph& graph, const std::vector<ir::NodeId>& o
         else
             for (int k = 0; k < ir::op_arity(n.op); ++k) axes[id] |= axes[n.args[k]];
     }
-    auto hoisted = [&](ir::NodeId id) {
-        return !stop[id] && !output[id] && axes[id] != 0 &&
-               ((columns && axes[id] == kX) || (rows && !(axes[id] & kX)));
+    auto kind_of = [&](ir::NodeId id) -> std::vector<ir::NodeId>* {
+        if (stop[id] || output[id] || axes[id] == 0) return nullptr;
+        if (axes[id] == kX) return kinds.columns ? &plan.column_nodes : nullptr;
+        if (!(axes[id] & kX)) return kinds.rows ? &plan.row_nodes : nullptr;
+        if (axes[id] == (kX | kY)) return kinds.xy_planes ? &plan.xy_plane_nodes : nullptr;
+        if (axes[id] == (kX | kZ)) return kinds.xz_planes ? &plan.xz_plane_nodes : nullptr;
+        return nullptr;
     };
 
     std::vector<char> listed(graph.size(), 0);
     for (ir::NodeId id : order) {
         const ir::Node& n = graph.node(id);
-        if (hoisted(id)) {
+        if (kind_of(id)) {
             plan.hoisted_operations += !(ir::op_flags(n.op) & ir::kLeaf);
             continue;
         }
         if (stop[id]) continue;
         for (int k = 0; k < ir::op_arity(n.op); ++k) {
             const ir::NodeId a = n.args[k];
-            if (!hoisted(a) || listed[a]) continue;
+            std::vector<ir::NodeId>* kind = kind_of(a);
+            if (!kind || listed[a]) continue;
             listed[a] = 1;
-            (axes[a] == kX ? plan.column_nodes : plan.row_nodes).push_back(a);
+            kind->push_back(a);
         }
     }
     return plan;

@@ -47,50 +47,85 @@ struct Tile {
     std::size_t first_point = 0;
     int lanes = 0;
     int first_col = 0;       ///< row tiling: the tile's first column
-    std::size_t row = 0;     ///< row tiling: the tile's row (over all slices)
+    std::size_t row = 0;     ///< row tiling: the tile's first row (over all slices)
+    int rows = 1;            ///< row tiling: whole rows in the tile (1: the tile is part of one row)
 };
 
 /// How a grid is cut into tiles: flat (kTileSize consecutive points, rows ignored) or by
-/// rows (each tile inside one row, as column and row values need; a long row is cut into
-/// equal pieces, a multiple of 16 lanes wide, so no tile is mostly padding).
+/// rows (each tile inside one row or made of whole rows of one slice, as column, row and
+/// plane values need). A long row is cut into equal pieces, a multiple of 16 lanes wide, so
+/// no tile is mostly padding; short rows are grouped, as many as fit in kTileSize lanes (a
+/// 128³ grid's rows alone would run the lane loops 128 long). Rows cut into pieces are walked
+/// a band of columns at a time, every row of the first band before the second, so the
+/// column values in use are one band's (prospero.vm float64: 1,431 column nodes × 8 B ×
+/// 2048 columns = 23 MB, twice one band). Narrower bands (256, 512 lanes) were no faster at
+/// 2048² and 1.3-1.5 times slower at 1024²: shorter lane loops cost more than the cache saves.
 struct Tiling {
     std::size_t points = 0;
     int cols = 1;
-    int width = 0;           ///< row tiling: lanes per tile; 0: flat
+    int rows = 1;            ///< row tiling: rows per slice
+    int width = 0;           ///< row tiling: lanes per row in a tile; 0: flat
     int tiles_per_row = 1;
+    int rows_per_tile = 1;
+    int tiles_per_slice = 1;
 
-    static Tiling flat(std::size_t points) { return Tiling{points, 1, 0, 1}; }
+    static Tiling flat(std::size_t points) { return Tiling{points, 1, 1, 0, 1, 1, 1}; }
     static Tiling by_rows(const Grid& grid) {
-        Tiling t{grid.points(), grid.cols(), 0, 1};
+        Tiling t{grid.points(), grid.cols(), grid.rows(), 0, 1, 1, 1};
         const int pieces = (t.cols + kTileSize - 1) / kTileSize;
         t.width = std::min(kTileSize, ((t.cols + pieces - 1) / pieces + 15) / 16 * 16);
         t.tiles_per_row = (t.cols + t.width - 1) / t.width;
+        if (t.tiles_per_row == 1) {
+            t.width = t.cols;
+            t.rows_per_tile = std::max(1, std::min(t.rows, kTileSize / t.cols));
+        }
+        t.tiles_per_slice = (t.rows + t.rows_per_tile - 1) / t.rows_per_tile;
         return t;
     }
     std::size_t count() const {
         if (width == 0) return (points + kTileSize - 1) / kTileSize;
-        return points / static_cast<std::size_t>(cols) * tiles_per_row;
+        const std::size_t slices = points / (static_cast<std::size_t>(cols) * rows);
+        return slices * tiles_per_slice * tiles_per_row;
     }
     Tile tile(std::size_t i) const {
         if (width == 0) {
             const std::size_t first = i * kTileSize;
-            return Tile{first, static_cast<int>(std::min<std::size_t>(kTileSize, points - first)), 0, 0};
+            return Tile{first, static_cast<int>(std::min<std::size_t>(kTileSize, points - first)), 0, 0, 1};
         }
         Tile t;
-        t.row = i / tiles_per_row;
-        t.first_col = static_cast<int>(i % tiles_per_row) * width;
-        t.lanes = std::min(width, cols - t.first_col);
+        if (tiles_per_row > 1) {
+            const std::size_t row_count = points / static_cast<std::size_t>(cols);
+            t.row = i % row_count;
+            t.first_col = static_cast<int>(i / row_count) * width;
+            t.lanes = std::min(width, cols - t.first_col);
+        } else {
+            const std::size_t slice = i / tiles_per_slice;
+            const int first_row = static_cast<int>(i % tiles_per_slice) * rows_per_tile;
+            t.rows = std::min(rows_per_tile, rows - first_row);
+            t.row = slice * rows + first_row;
+            t.lanes = t.rows * cols;
+        }
         t.first_point = t.row * cols + t.first_col;
         return t;
     }
 };
 
 /// Where a tape's input values come from: values of every grid point (read per tile,
-/// converted to T), or T values per column (read in place).
+/// converted to T), or hoisted T values. Those of grid row r of slice s start at
+/// hoisted + r × row_stride + s × slice_stride: a value per column there (column and plane
+/// nodes), or one value for the whole row (row nodes, `per_row_value`). A tile's values
+/// are read in place when they follow each other as its lanes do (`spans_rows`: those of
+/// its next row come next), else copied into the tile.
 template <class T>
 struct InputSource {
     const double* per_point = nullptr;
-    const T* per_column = nullptr;
+    const T* hoisted = nullptr;
+    std::size_t row_stride = 0;
+    std::size_t slice_stride = 0;
+    bool per_row_value = false;
+    bool spans_rows = false;
+
+    bool read_in_place(const Tile& tile) const { return hoisted && !per_row_value && (tile.rows == 1 || spans_rows); }
 };
 
 /// Where a tape's output values go, one per point: as doubles (the field, kept nodes) or
@@ -130,7 +165,9 @@ void run_pass(const Pass<T>& pass, const Tiling& tiling, const EvalOptions& opti
     // Slots of column inputs point into the column values: they need no tile memory
     // (prospero.vm has ~1000 of them).
     std::vector<char> borrowed(tape.slot_count, 0);
-    for (auto [slot, which] : tape.inputs) borrowed[slot] = pass.inputs[which].per_column != nullptr;
+    // A tiling's tiles are all of one row or all of whole rows, so the first tile tells.
+    const Tile first_tile = tiling.tile(0);
+    for (auto [slot, which] : tape.inputs) borrowed[slot] = pass.inputs[which].read_in_place(first_tile);
     const std::size_t own_slots = static_cast<std::size_t>(std::count(borrowed.begin(), borrowed.end(), 0));
     std::vector<Workspace<T>> workspaces(worker_count(tiles, options));
     for (Workspace<T>& ws : workspaces) {
@@ -156,8 +193,22 @@ void run_pass(const Pass<T>& pass, const Tiling& tiling, const EvalOptions& opti
         }
         for (auto [slot, which] : tape.inputs) {
             const InputSource<T>& source = pass.inputs[which];
-            if (source.per_column) {
-                ws.slots[slot] = const_cast<T*>(source.per_column + tile.first_col);
+            if (source.hoisted) {
+                auto row_start = [&](std::size_t row) {
+                    return source.hoisted + row % grid.rows() * source.row_stride +
+                           row / grid.rows() * source.slice_stride;
+                };
+                if (borrowed[slot]) {
+                    ws.slots[slot] = const_cast<T*>(row_start(tile.row) + tile.first_col);
+                    continue;
+                }
+                const int row_lanes = tile.lanes / tile.rows;
+                for (int r = 0; r < tile.rows; ++r) {
+                    const T* values = row_start(tile.row + r);
+                    T* lane_values = ws.slots[slot] + r * row_lanes;
+                    if (source.per_row_value) std::fill_n(lane_values, row_lanes, values[0]);
+                    else std::copy_n(values + tile.first_col, row_lanes, lane_values);
+                }
             } else {
                 T* lane_values = ws.slots[slot];
                 for (int l = 0; l < tile.lanes; ++l) lane_values[l] = T(source.per_point[tile.first_point + l]);
@@ -194,9 +245,33 @@ std::vector<std::vector<T>> evaluate_nodes(const Graph& graph, const std::vector
     return values;
 }
 
-/// Memory for the values of hoisted nodes, per kind (column, row): past it that kind is
-/// not hoisted (e.g. thousands of Y-only nodes on a 512³ grid's 262,144 rows).
+/// Memory for the values of hoisted nodes, per kind (column, row, plane): past it that
+/// kind is not hoisted (e.g. thousands of Y-only nodes on a 512³ grid's 262,144 rows).
 constexpr std::size_t kMaxHoistedBytes = std::size_t{64} << 20;
+
+/// The hoisting plan for `grid`, without the kinds whose values would not fit: turning a
+/// kind off moves its nodes' operands to the other kinds, so the plan is made again until
+/// every kind fits.
+template <class T>
+HoistPlan fitting_plan(const Graph& graph, const TapeSpec& spec, const Grid& grid) {
+    const std::size_t cols = grid.cols(), rows = grid.rows(), slices = grid.slices();
+    HoistKinds kinds{.columns = true, .rows = true, .xy_planes = slices > 1, .xz_planes = slices > 1};
+    for (;;) {
+        HoistPlan plan = plan_hoisting(graph, spec.outputs, spec.inputs, kinds);
+        auto fits = [](const std::vector<NodeId>& nodes, std::size_t values) {
+            return nodes.size() * values * sizeof(T) <= kMaxHoistedBytes;
+        };
+        // Column values are repeated for tiles of whole rows: up to kTileSize of them.
+        const HoistKinds fitting{kinds.columns && fits(plan.column_nodes, std::max<std::size_t>(cols, kTileSize)),
+                                 kinds.rows && fits(plan.row_nodes, rows * slices),
+                                 kinds.xy_planes && fits(plan.xy_plane_nodes, cols * rows),
+                                 kinds.xz_planes && fits(plan.xz_plane_nodes, cols * slices)};
+        if (fitting.columns == kinds.columns && fitting.rows == kinds.rows && fitting.xy_planes == kinds.xy_planes &&
+            fitting.xz_planes == kinds.xz_planes)
+            return plan;
+        kinds = fitting;
+    }
+}
 
 template <class T>
 void evaluate(const Graph& graph, NodeId root, Field& field, const EvalOptions& options, bool hoist,
@@ -215,28 +290,51 @@ void evaluate(const Graph& graph, NodeId root, Field& field, const EvalOptions& 
     }
 
     Tiling tiling = Tiling::flat(grid.points());
-    std::vector<std::vector<T>> column_values, row_values;
+    std::vector<std::vector<T>> column_values, row_values, xy_values, xz_values;
     std::vector<const T*> uniforms;
     if (hoist && grid.cols() >= kMinHoistColumns) {
-        HoistPlan plan = plan_hoisting(graph, spec.outputs, spec.inputs);
-        const std::size_t row_count = grid.points() / grid.cols();
-        const bool columns_fit = plan.column_nodes.size() * grid.cols() * sizeof(T) <= kMaxHoistedBytes;
-        const bool rows_fit = plan.row_nodes.size() * row_count * sizeof(T) <= kMaxHoistedBytes;
-        if (!columns_fit || !rows_fit) plan = plan_hoisting(graph, spec.outputs, spec.inputs, columns_fit, rows_fit);
+        const HoistPlan plan = fitting_plan<T>(graph, spec, grid);
         Grid columns = grid;   // one row: the X of each column
         columns.dims = 2;
         columns.y.nodes = columns.z.nodes = 1;
         Grid rows = grid;      // one column: the Y (and Z) of each row
         rows.x.nodes = 1;
+        Grid xy = grid;        // one slice: the X and Y of each column and row
+        xy.z.nodes = 1;
+        Grid xz = grid;        // one row per slice: the X and Z of each column and slice
+        xz.y.nodes = 1;
         column_values = evaluate_nodes<T>(graph, plan.column_nodes, columns, options);
         row_values = evaluate_nodes<T>(graph, plan.row_nodes, rows, options);
-        for (std::size_t k = 0; k < plan.column_nodes.size(); ++k) {
-            spec.inputs.push_back(plan.column_nodes[k]);
-            inputs.push_back({nullptr, column_values[k].data()});
-        }
-        spec.uniforms = plan.row_nodes;
-        for (const std::vector<T>& v : row_values) uniforms.push_back(v.data());
+        xy_values = evaluate_nodes<T>(graph, plan.xy_plane_nodes, xy, options);
+        xz_values = evaluate_nodes<T>(graph, plan.xz_plane_nodes, xz, options);
         tiling = Tiling::by_rows(grid);
+        const std::size_t cols = grid.cols(), rows_per_tile = tiling.rows_per_tile;
+        // Tiles of whole rows read each column's values once per row: repeated that often,
+        // they are read in place.
+        if (rows_per_tile > 1)
+            for (std::vector<T>& v : column_values) {
+                v.resize(cols * rows_per_tile);
+                for (std::size_t r = 1; r < rows_per_tile; ++r) std::copy_n(v.begin(), cols, v.begin() + r * cols);
+            }
+        auto read_hoisted = [&](const std::vector<NodeId>& nodes, const std::vector<std::vector<T>>& values,
+                                InputSource<T> source) {
+            for (std::size_t k = 0; k < nodes.size(); ++k) {
+                spec.inputs.push_back(nodes[k]);
+                source.hoisted = values[k].data();
+                inputs.push_back(source);
+            }
+        };
+        read_hoisted(plan.column_nodes, column_values, {.spans_rows = true});
+        read_hoisted(plan.xy_plane_nodes, xy_values, {.row_stride = cols, .spans_rows = true});
+        read_hoisted(plan.xz_plane_nodes, xz_values, {.slice_stride = cols});
+        // Row values are immediates in tiles of one row, lane arrays in tiles of several.
+        if (rows_per_tile > 1) {
+            read_hoisted(plan.row_nodes, row_values,
+                         {.row_stride = 1, .slice_stride = static_cast<std::size_t>(grid.rows()), .per_row_value = true});
+        } else {
+            spec.uniforms = plan.row_nodes;
+            for (const std::vector<T>& v : row_values) uniforms.push_back(v.data());
+        }
     }
     const Tape tape = compile_tape(graph, spec);
     run_pass(Pass<T>{tape, grid, std::move(inputs), std::move(uniforms), std::move(outputs)}, tiling, options);

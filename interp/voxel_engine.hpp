@@ -30,8 +30,9 @@ inline constexpr int kMinHoistColumns = 64;
 struct VoxelOptions {
     /// float32: twice the lanes per vector; values within 1e-5 of the field (README "Performance").
     Precision precision = Precision::Float64;
-    /// Compute X-only sub-expressions once per column and those without X once per row
-    /// (hoist.hpp). Off only to compare against the plain tape (--no-hoist).
+    /// Compute X-only sub-expressions once per column, those without X once per row and, in
+    /// 3D, those of X and Y (X and Z) alone once per XY (XZ) plane (hoist.hpp). Off only to
+    /// compare against the plain tape (--no-hoist).
     bool hoist = true;
 };
 

@@ -219,3 +219,21 @@ TEST_CASE("the volume starts outside: boxes decided inside, on the boundary or N
         if (m == 4) CHECK(s.invalid == g.points());
     }
 }
+
+TEST_CASE("a sign volume past 2 MiB (huge pages) counts its statistics as the float64 field does") {
+    // 129³ nodes: 2,146,689 signs, many blocks of the vectorised count and a tail.
+    test::Compiled c = test::compile_text(
+        "ARGUMENT x(-1, 1), y(-1, 1), z(-1, 1);\nRETURN SQRT(x + 0.5) * 0 + (0.5 - z) * (0.6 - x*x - y*y);\n");
+    REQUIRE_MESSAGE(c.model, c.sink.render_all());
+    const Grid g = grid_for(*c.model, 0, 129);
+    const SignVolume volume = sign_render_volume(c.model->graph, c.model->root, g);
+    REQUIRE(volume.signs.size() == 2146689);
+    const FieldStats a = field_stats(volume.expanded()), b = volume.stats();
+    CHECK(a.invalid == b.invalid);
+    CHECK(a.positive == b.positive);
+    CHECK(a.zero == b.zero);
+    CHECK(a.negative == b.negative);
+    CHECK(a.mean == b.mean);
+    CHECK(b.invalid == 32 * 129 * 129);   // x < -0.5: the 32 first columns
+    CHECK(b.zero == 97 * 129);            // z = 0.5 where x ≥ -0.5
+}

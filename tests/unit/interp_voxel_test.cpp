@@ -93,11 +93,14 @@ TEST_CASE("float32 beyond its range: bear.vm differs only at 6 corner points of 
 }
 
 TEST_CASE("hoisting X-only and row-only sub-expressions changes no value, in either precision") {
-    // prospero.vm on 100 columns (one tile per row), 1030 (three 352-lane pieces) and 40
-    // (flat tiles, nothing hoisted); tanglecube.vm in 3D (rows over two axes).
+    // prospero.vm on 100 columns (tiles of 10 whole rows, the last of 7), 1030 (three
+    // 352-lane pieces) and 40 (flat tiles, nothing hoisted); tanglecube.vm and bear.vm in 3D
+    // (rows over two axes, XY and XZ planes; tiles of 9 rows (a whole slice), 9 + 4 and
+    // 16 + 5 rows; one row per tile).
     struct Case { const char* name; int dims, cols, rows; };
     for (const Case c : {Case{"prospero.vm", 2, 100, 37}, Case{"prospero.vm", 2, 1030, 3}, Case{"prospero.vm", 2, 40, 40},
-                         Case{"tanglecube.vm", 3, 70, 9}}) {
+                         Case{"tanglecube.vm", 3, 70, 9}, Case{"tanglecube.vm", 3, 110, 13}, Case{"bear.vm", 3, 64, 21},
+                         Case{"bear.vm", 3, 1030, 2}}) {
         CAPTURE(c.name);
         CAPTURE(c.cols);
         const Model model = load_vm(c.name);
@@ -133,6 +136,35 @@ TEST_CASE("the hoisting plan: X-only nodes per column, nodes without X per row, 
     // The model itself is never hoisted, even when it has no X.
     auto y_only = test::compile_text("ARGUMENT X, Y\nRETURN COS(Y * 3)");
     CHECK(plan_hoisting(y_only.model->graph, {y_only.model->root}, {}).hoisted_operations == 1);
+}
+
+TEST_CASE("in 3D, sub-expressions of X and Y (of X and Z) alone are computed once per XY (XZ) plane") {
+    auto c = test::compile_text("ARGUMENT X, Y, Z\nRETURN SIN(X * Y) + COS(X - Z) * Z + Y");
+    REQUIRE(c.model);
+    const Model& m = *c.model;
+    const HoistPlan plan = plan_hoisting(m.graph, {m.root}, {}, {.xy_planes = true, .xz_planes = true});
+    // X*Y, SIN | X-Z, COS, *Z: 5 operations out of the per-point tape, which keeps the two sums.
+    CHECK(plan.hoisted_operations == 5);
+    CHECK(plan.column_nodes.empty());
+    REQUIRE(plan.xy_plane_nodes.size() == 1);
+    CHECK(m.graph.node(plan.xy_plane_nodes[0]).op == ir::Op::Sin);
+    REQUIRE(plan.xz_plane_nodes.size() == 1);
+    CHECK(m.graph.node(plan.xz_plane_nodes[0]).op == ir::Op::Mul);
+    REQUIRE(plan.row_nodes.size() == 1);
+    CHECK(m.graph.node(plan.row_nodes[0]).op == ir::Op::Arg);
+    // Without planes (a 2D grid, where X and Y is every point) nothing of them is hoisted.
+    CHECK(plan_hoisting(m.graph, {m.root}, {}).hoisted_operations == 0);
+    // Values: tiles of whole rows (70 columns: 14 rows, the last tile of each slice 5) and
+    // of one row, against the plain tape and the classic engine.
+    for (int cols : {70, 1030}) {
+        Grid grid = square_grid(3, 19);
+        grid.x.nodes = cols;
+        for (Precision precision : {Precision::Float64, Precision::Float32}) {
+            const Field a = evaluate_grid(m, grid, VoxelEngine({.precision = precision}));
+            CHECK(a.values == evaluate_grid(m, grid, VoxelEngine({.precision = precision, .hoist = false})).values);
+            if (precision == Precision::Float64) CHECK(a.values == evaluate_grid(m, grid, engine_named("classic")).values);
+        }
+    }
 }
 
 TEST_CASE("known node values are read instead of computed; kept ones are written out") {

@@ -27,8 +27,9 @@ std::size_t parse_memory_size(const std::string& text, const std::string& what) 
 }
 
 void add_brick_options(OptionTable& t, CliOptions& o) {
-    t.option("--memory", "SIZE", "a 3D run to .vti/.vdb in bricks, within SIZE (2G, 512M):\n"
-                                 "any --size, refused when the bricks in flight cannot fit",
+    t.option("--memory", "SIZE", "a 3D run to .vti/.vdb in bricks (.pvti/.hdf: always),\n"
+                                 "within SIZE (2G, 512M): any --size, refused when\n"
+                                 "the bricks in flight cannot fit",
              [&o](const std::string& v) { o.memory = parse_memory_size(v, "--memory"); });
     t.flag("--resume", "a bricked run computes only the bricks its done map\n(FILE.done) lacks, after a kill",
            [&o] { o.resume = true; });

@@ -51,12 +51,15 @@ Grid bricked_grid(const Model& model, const CliOptions& o) {
 }
 
 /// What identifies the values of a run: a done map of another run must not be resumed.
-std::string run_key(const Model& model, const Grid& g, const CliOptions& o, const Engine& engine) {
+std::string run_key(const Model& model, const BrickLayout& layout, int pieces, const CliOptions& o,
+                    const Engine& engine) {
+    const Grid& g = layout.grid;
     const std::size_t model_hash = std::hash<std::string>{}(print_stage(model, "", IrStage::Lower));
-    return fmt::format("fortu bricks 1; grid {}x{}x{} x {:.17g}:{:.17g} y {:.17g}:{:.17g} z {:.17g}:{:.17g}; "
-                       "brick {}; {}; band {:.17g}; {}; model {:016x}",
-                       g.cols(), g.rows(), g.slices(), g.x.min, g.x.max, g.y.min, g.y.max, g.z.min, g.z.max, o.brick,
-                       std::filesystem::path(o.output).extension().string(), o.vdb_band, engine.description(),
+    return fmt::format("fortu bricks 2; grid {}x{}x{} x {:.17g}:{:.17g} y {:.17g}:{:.17g} z {:.17g}:{:.17g}; "
+                       "brick {}x{}x{}; {}; pieces {}; band {:.17g}; {}; model {:016x}",
+                       g.cols(), g.rows(), g.slices(), g.x.min, g.x.max, g.y.min, g.y.max, g.z.min, g.z.max,
+                       layout.shape[0], layout.shape[1], layout.shape[2],
+                       std::filesystem::path(o.output).extension().string(), pieces, o.vdb_band, engine.description(),
                        model_hash);
 }
 
@@ -70,7 +73,7 @@ struct WorkerStats {
 
 bool wants_bricks(const Model& model, const CliOptions& o) {
     if (model.dims() != 3 || o.slice || !brick_output_supported(o.output)) return false;
-    return o.memory > 0 || o.resume || (World::get().distributed() && !o.sweep_point);
+    return o.memory > 0 || o.resume || brick_output_only(o.output) || (World::get().distributed() && !o.sweep_point);
 }
 
 int run_bricked(const Model& model, const CliOptions& o, double compile_seconds) {
@@ -90,11 +93,17 @@ int run_bricked(const Model& model, const CliOptions& o, double compile_seconds)
                                      engine->description()));
     const Grid grid = bricked_grid(model, o);
     check_outputs(o, grid);
-    const BrickLayout layout(grid, o.brick);
+    const BrickLayout layout = brick_layout(o.output, grid, o.brick);
+    // A .pvti: one piece per rank, or per layer of bricks on one process.
+    const bool pvti = std::filesystem::path(o.output).extension() == ".pvti";
+    const int pieces = pvti ? std::min(world.distributed() ? world.size() : layout.counts[2], layout.counts[2]) : 1;
+    if (pvti && world.distributed() && pieces < world.size() && world.rank() == 0)
+        std::cerr << fmt::format("fortu: note: {} pieces for {} ranks (the grid has {} layers of bricks along Z)\n",
+                                 pieces, world.size(), layout.counts[2]);
 
     // Memory: the bricks in flight (values, a .vdb's records) and each evaluator's scratch.
     const bool sparse = std::filesystem::path(o.output).extension() == ".vdb";
-    const std::size_t brick_points = std::min<std::size_t>(std::size_t(o.brick) * o.brick * o.brick, grid.points());
+    const std::size_t brick_points = layout.brick_points();
     const std::size_t per_worker = brick_points * (sparse ? 24 : 8) + brick_evaluator_bytes(model.graph, model.root);
     const std::size_t base = peak_rss_bytes();
     const std::size_t bound = o.memory ? o.memory : available_memory();
@@ -114,16 +123,23 @@ int run_bricked(const Model& model, const CliOptions& o, double compile_seconds)
     }
 
     // The done map and the partial output: rank 0 starts (or resumes) them, the others join.
-    const std::string key = run_key(model, grid, o, *engine);
-    const bool resumable = std::filesystem::exists(done_map_path(o.output)) &&
-                           (sparse || std::filesystem::exists(partial_path(o.output)));
+    const std::string key = run_key(model, layout, pieces, o, *engine);
+    const bool collective = brick_output_collective(o.output);
+    const BrickOutputSpec spec{o.output, layout, o.vdb_band, world.rank(), true, pieces,
+                               collective && world.distributed(), &world.mpi_mutex()};
+    const bool resumable = std::filesystem::exists(done_map_path(o.output)) && brick_partials_exist(spec);
     if (o.resume && !resumable && world.rank() == 0)
         std::cerr << fmt::format("fortu: note: no unfinished run of '{}' to resume; starting afresh\n", o.output);
     const bool resume = o.resume && resumable;
     std::unique_ptr<BrickOutput> output;
     std::unique_ptr<DoneMap> done;
+    auto open_output = [&](bool create) {
+        BrickOutputSpec mine = spec;
+        mine.create = create;
+        output = open_brick_output(mine);
+    };
     auto open = [&](bool first) {
-        output = open_brick_output({o.output, grid, o.vdb_band, world.rank(), first && !resume});
+        if (!collective) open_output(first && !resume);
         done = std::make_unique<DoneMap>(o.output, key, first ? (resume ? DoneMap::Mode::Resume : DoneMap::Mode::Fresh)
                                                               : DoneMap::Mode::Join);
     };
@@ -131,6 +147,7 @@ int run_bricked(const Model& model, const CliOptions& o, double compile_seconds)
         if (world.rank() == 0) open(true);
         world.barrier();
         if (world.rank() != 0) open(false);
+        if (collective) open_output(!resume);   // every rank at once (parallel HDF5)
     } catch (const OutputError& e) {
         std::cerr << fmt::format("fortu: error: {}\n", e.what());
         if (world.distributed()) world.abort(1);
@@ -155,6 +172,7 @@ int run_bricked(const Model& model, const CliOptions& o, double compile_seconds)
     std::atomic<bool> stop{false};
     {
         World::Counter counter(world);
+        DoneRecorder recorder(*done, [&] { output->sync(); });
         auto work = [&](int worker) {
             try {
                 BrickEvaluator evaluator(model.graph, model.root, grid);
@@ -167,7 +185,7 @@ int run_bricked(const Model& model, const CliOptions& o, double compile_seconds)
                     Stopwatch brick_clock;
                     const BrickStats b = evaluator.evaluate(box, values, output->skip_beyond());
                     output->write(todo[n], box, values);
-                    done->record(todo[n]);
+                    recorder.finished(todo[n]);
                     const double seconds = brick_clock.seconds();
                     ++st.bricks;
                     st.brick_seconds += seconds;
@@ -191,6 +209,13 @@ int run_bricked(const Model& model, const CliOptions& o, double compile_seconds)
         for (int t = 1; t < threads; ++t) pool.emplace_back(work, t);
         work(0);
         pool.clear();
+        if (!failure) {
+            try {
+                recorder.flush();   // this rank's bricks are on disk and in the map
+            } catch (...) {
+                failure = std::current_exception();
+            }
+        }
         if (failure) {
             try {
                 std::rethrow_exception(failure);
@@ -202,6 +227,13 @@ int run_bricked(const Model& model, const CliOptions& o, double compile_seconds)
         }
     }
     times_file.reset();
+    try {
+        output->close();
+    } catch (const OutputError& e) {
+        std::cerr << fmt::format("fortu: error: {}\n", e.what());
+        if (world.distributed()) world.abort(1);
+        return 1;
+    }
     const double evaluate_seconds = clock.seconds();
     const double cpu = cpu_seconds() - cpu_start;
     world.barrier();
@@ -245,12 +277,14 @@ int run_bricked(const Model& model, const CliOptions& o, double compile_seconds)
         }
         const double mean = busy_sum / world.size();
         std::cout << fmt::format(
-            "model: {}\ngrid: {} = {} points, {} bricks of {}³ ({} from the done map, {} computed)\n"
+            "model: {}\ngrid: {} = {} points, {} bricks of {}x{}x{} nodes ({} from the done map, {} computed)\n"
             "engine: {} (bricks: interval-pruned tapes, exact values), ranks: {}, threads per rank: {}\n"
             "points: {} evaluated, {} decided by intervals (outside the .vdb band)\n"
             "time: compile {:.3f} s, bricks {:.3f} s, assemble {:.3f} s; cpu (all ranks) {:.3f} s\n"
             "{}load balance: max/mean brick time per rank {:.3f}\n",
-            o.positional[0], grid_text(grid), format_count(grid.points()), layout.size(), o.brick,
+            o.positional[0], grid_text(grid), format_count(grid.points()), layout.size(),
+            std::min(layout.shape[0], grid.cols()), std::min(layout.shape[1], grid.rows()),
+            std::min(layout.shape[2], grid.slices()),
             layout.size() - todo.size(), todo.size(), engine->description(), world.size(), threads,
             format_count(std::uint64_t(evaluated)), format_count(std::uint64_t(skipped)), compile_seconds,
             evaluate_seconds, assemble_seconds, cpu_sum, ranks, mean > 0 ? busy_max / mean : 1.0);

@@ -82,7 +82,7 @@ World::Counter::~Counter() {
 }
 
 std::uint64_t World::Counter::next() {
-    std::lock_guard lock(mutex_);
+    std::lock_guard lock(world_.mpi_mutex());
 #ifdef FORTU_HAVE_MPI
     if (window_) {
         const std::int64_t one = 1;
@@ -93,7 +93,6 @@ std::uint64_t World::Counter::next() {
         return std::uint64_t(got);
     }
 #endif
-    (void)world_;
     return local_++;
 }
 

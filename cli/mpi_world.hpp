@@ -26,6 +26,10 @@ public:
     /// Ends every rank (after an error on this one), with `status`.
     [[noreturn]] void abort(int status);
 
+    /// Held around every MPI call made while threads run (MPI_THREAD_SERIALIZED): the
+    /// brick counter's and a parallel HDF5 writer's.
+    std::mutex& mpi_mutex() { return mpi_mutex_; }
+
     /// Every rank's `values` (the same count on each), concatenated in rank order, on rank 0
     /// (empty elsewhere).
     std::vector<double> gather(const std::vector<double>& values);
@@ -46,7 +50,6 @@ public:
         void* window_ = nullptr;      ///< MPI_Win, when distributed
         std::int64_t* base_ = nullptr;
         std::uint64_t local_ = 0;     ///< alone: a plain counter
-        std::mutex mutex_;            ///< threads draw one at a time (MPI_THREAD_SERIALIZED)
     };
 
 private:
@@ -55,6 +58,7 @@ private:
     int rank_ = 0;
     int size_ = 1;
     bool initialised_ = false;
+    std::mutex mpi_mutex_;
 };
 
 }  // namespace fortu

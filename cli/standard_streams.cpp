@@ -92,6 +92,8 @@ void check_stdout_output(const CliOptions& o, bool stdout_is_terminal) {
     if (!format)
         throw UsageError(fmt::format("--format: unknown output format '{}' (use {})", o.format,
                                      format_names()));
+    if (format->extension() == "pvti")
+        throw UsageError(fmt::format("-o {}: a .pvti names piece files beside it; give it a path (-o f.pvti)", o.output));
     const bool text = format->text || (format->extension() == "stl" && o.ascii);
     if (!text && stdout_is_terminal)
         throw UsageError(fmt::format("-o {}: {} is binary and standard output is a terminal; redirect it to a file "

@@ -3,13 +3,17 @@
 
 #include "runtime/output_error.hpp"
 
+#include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <cstring>
 #include <fcntl.h>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <sys/stat.h>
+#include <climits>
+#include <sys/uio.h>
 #include <unistd.h>
 
 namespace fortu {
@@ -54,6 +58,30 @@ PartialFile::~PartialFile() {
 
 void PartialFile::write_at(std::uint64_t offset, const void* data, std::size_t size) {
     write_all(fd_, static_cast<const char*>(data), size, offset, true, destination_);
+}
+
+void PartialFile::write_at(std::uint64_t offset, const std::vector<Piece>& pieces) {
+    std::vector<iovec> io;
+    for (const Piece& p : pieces) io.push_back({const_cast<void*>(p.data), p.size});
+    std::size_t first = 0;
+    while (first < io.size()) {
+        const int count = int(std::min<std::size_t>(io.size() - first, IOV_MAX));
+        const ssize_t n = ::pwritev(fd_, io.data() + first, count, off_t(offset));
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) throw OutputError(destination_, n < 0 ? system_reason() : "no space written");
+        offset += std::uint64_t(n);
+        // Past the pieces written whole; a piece written in part goes on from where it stopped.
+        for (std::size_t left = std::size_t(n); left > 0;) {
+            if (left >= io[first].iov_len) {
+                left -= io[first].iov_len;
+                ++first;
+            } else {
+                io[first].iov_base = static_cast<char*>(io[first].iov_base) + left;
+                io[first].iov_len -= left;
+                left = 0;
+            }
+        }
+    }
 }
 
 std::uint64_t PartialFile::append(const void* data, std::size_t size) {
@@ -114,9 +142,14 @@ DoneMap::~DoneMap() {
     if (fd_ >= 0) ::close(fd_);
 }
 
-void DoneMap::record(std::size_t brick) {
-    const std::string line = std::to_string(brick) + "\n";
-    write_all(fd_, line.data(), line.size(), 0, false, path_);   // one O_APPEND write: whole lines
+void DoneMap::record(const std::vector<std::size_t>& bricks) {
+    if (bricks.empty()) return;
+    std::string lines;
+    for (const std::size_t brick : bricks) {
+        lines += std::to_string(brick);
+        lines += '\n';
+    }
+    write_all(fd_, lines.data(), lines.size(), 0, false, path_);   // one O_APPEND write: whole lines
     if (::fdatasync(fd_) != 0) throw OutputError(path_, system_reason());
 }
 
@@ -124,6 +157,64 @@ void DoneMap::remove() {
     if (fd_ >= 0) ::close(fd_);
     fd_ = -1;
     ::unlink(path_.c_str());
+}
+
+
+DoneRecorder::DoneRecorder(DoneMap& map, std::function<void()> sync_output, double period, std::size_t batch)
+    : map_(map), sync_output_(std::move(sync_output)), period_(period), batch_(batch), thread_([this] { loop(); }) {}
+
+DoneRecorder::~DoneRecorder() {
+    {
+        std::lock_guard lock(mutex_);
+        stop_ = true;
+    }
+    wake_.notify_all();
+    thread_.join();
+}
+
+void DoneRecorder::finished(std::size_t brick) {
+    std::lock_guard lock(mutex_);
+    if (error_) std::rethrow_exception(error_);
+    pending_.push_back(brick);
+    if (pending_.size() == batch_) wake_.notify_all();
+}
+
+void DoneRecorder::flush() {
+    std::unique_lock lock(mutex_);
+    wake_.wait(lock, [&] { return !syncing_; });   // a batch in flight finishes first
+    if (error_) std::rethrow_exception(error_);
+    record_batch(lock);
+    if (error_) std::rethrow_exception(error_);
+}
+
+/// Syncs and records the pending bricks; the lock is released while the disk works.
+void DoneRecorder::record_batch(std::unique_lock<std::mutex>& lock) {
+    if (pending_.empty()) return;
+    std::vector<std::size_t> batch;
+    batch.swap(pending_);   // taken before the sync: each was written before it starts
+    syncing_ = true;
+    lock.unlock();
+    std::exception_ptr error;
+    try {
+        sync_output_();
+        map_.record(batch);
+    } catch (...) {
+        error = std::current_exception();
+    }
+    lock.lock();
+    syncing_ = false;
+    if (error && !error_) error_ = error;
+    wake_.notify_all();
+}
+
+void DoneRecorder::loop() {
+    std::unique_lock lock(mutex_);
+    while (!stop_) {
+        wake_.wait_for(lock, std::chrono::duration<double>(period_),
+                       [&] { return stop_ || (!syncing_ && pending_.size() >= batch_); });
+        if (stop_ || error_) break;
+        if (!syncing_) record_batch(lock);
+    }
 }
 
 }  // namespace fortu

@@ -6,6 +6,8 @@
 #include "runtime/output_error.hpp"
 #include "runtime/vdb.hpp"
 #include "runtime/vti.hpp"
+#include "runtime/vtkhdf.hpp"
+#include "runtime/volume_order.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -24,41 +26,117 @@ bool has_extension(const std::string& path, const char* ext) {
     return std::filesystem::path(path).extension() == ext;
 }
 
-/// The .vti: header, the array's length, the values at their offsets, the trailer.
+/// A .pvti's pieces: slabs of whole layers of bricks along Z, as even as the layers allow;
+/// each piece but the last also holds the next slab's first slice (the shared plane).
+struct Slab {
+    int first = 0, last = 0;   ///< slices, inclusive
+};
+
+std::vector<Slab> piece_slabs(const BrickLayout& layout, int pieces) {
+    const int layers = layout.counts[2], slices = layout.grid.slices();
+    pieces = std::clamp(pieces, 1, layers);
+    std::vector<Slab> slabs;
+    for (int p = 0; p < pieces; ++p) {
+        const int first_layer = int(std::int64_t(layers) * p / pieces);
+        const int next_layer = int(std::int64_t(layers) * (p + 1) / pieces);
+        slabs.push_back({first_layer * layout.shape[2], std::min(next_layer * layout.shape[2], slices - 1)});
+    }
+    return slabs;
+}
+
+/// `NAME_P.vti` beside `NAME.pvti`.
+std::string piece_path(const std::string& destination, int piece) {
+    const std::filesystem::path p(destination);
+    return (p.parent_path() / fmt::format("{}_{}.vti", p.stem().string(), piece)).string();
+}
+
+/// The .vti (one piece over all slices) or the .pvti's pieces: each a header, the array's
+/// length, the values at their offsets, the trailer.
 class VtiBricks final : public BrickOutput {
 public:
-    explicit VtiBricks(const BrickOutputSpec& spec)
-        : spec_(spec), file_(partial_path(spec.path), spec.path, !spec.create) {
-        const Grid& g = spec.grid;
-        const std::string header = vti_header(g);
-        const std::uint64_t bytes = 8 * std::uint64_t(g.points());
-        data_ = header.size() + 8;
-        if (spec.create) {
-            file_.write_at(0, header.data(), header.size());
-            file_.write_at(header.size(), &bytes, 8);
-            const std::string_view trailer = vti_trailer();
-            file_.write_at(data_ + bytes, trailer.data(), trailer.size());
+    explicit VtiBricks(const BrickOutputSpec& spec) : spec_(spec) {
+        const Grid& g = spec.layout.grid;
+        const bool split = has_extension(spec.path, ".pvti");
+        const std::vector<Slab> slabs = split ? piece_slabs(spec.layout, spec.pieces) : std::vector<Slab>{{0, g.slices() - 1}};
+        for (std::size_t p = 0; p < slabs.size(); ++p) {
+            const std::string destination = split ? piece_path(spec.path, int(p)) : spec.path;
+            pieces_.push_back(std::make_unique<Piece>(slabs[p], destination, !spec.create));
+            Piece& piece = *pieces_.back();
+            const std::string header = split ? vti_piece_header(g, slabs[p].first, slabs[p].last) : vti_header(g);
+            const std::uint64_t bytes = 8 * std::uint64_t(g.cols()) * g.rows() * (slabs[p].last - slabs[p].first + 1);
+            piece.data = header.size() + 8;
+            if (spec.create) {
+                piece.file.write_at(0, header.data(), header.size());
+                piece.file.write_at(header.size(), &bytes, 8);
+                const std::string_view trailer = vti_trailer();
+                piece.file.write_at(piece.data + bytes, trailer.data(), trailer.size());
+            }
         }
     }
 
     void write(std::size_t, const BrickBox& box, const std::vector<double>& values) override {
-        const Grid& g = spec_.grid;
+        const Grid& g = spec_.layout.grid;
         const std::array<int, 3> e = box.extent();
-        for (int s = box.lo[2]; s <= box.hi[2]; ++s)
-            for (int r = box.lo[1]; r <= box.hi[1]; ++r) {
+        std::vector<PartialFile::Piece> rows;
+        for (const auto& piece : pieces_)
+            for (int s = std::max(box.lo[2], piece->slab.first); s <= std::min(box.hi[2], piece->slab.last); ++s) {
                 // Volume order: Y from the smallest, so image row r is volume row rows-1-r.
-                const std::uint64_t at = data_ + 8 * ((std::uint64_t(s) * g.rows() + (g.rows() - 1 - r)) * g.cols() + box.lo[0]);
-                file_.write_at(at, values.data() + box.local(box.lo[0], r, s), 8 * std::size_t(e[0]));
+                auto offset = [&](int r) {
+                    return piece->data +
+                           8 * ((std::uint64_t(s - piece->slab.first) * g.rows() + (g.rows() - 1 - r)) * g.cols() + box.lo[0]);
+                };
+                if (e[0] == g.cols()) {   // whole rows: the slice's part is one run, rows in reverse
+                    rows.clear();
+                    for (int r = box.hi[1]; r >= box.lo[1]; --r)
+                        rows.push_back({values.data() + box.local(box.lo[0], r, s), 8 * std::size_t(e[0])});
+                    piece->file.write_at(offset(box.hi[1]), rows);
+                } else {
+                    for (int r = box.lo[1]; r <= box.hi[1]; ++r)
+                        piece->file.write_at(offset(r), values.data() + box.local(box.lo[0], r, s), 8 * std::size_t(e[0]));
+                }
             }
-        file_.sync();
     }
 
-    void finish(std::size_t) override { file_.commit(); }
+    void sync() override {
+        for (const auto& piece : pieces_) piece->file.sync();
+    }
+
+    void finish(std::size_t) override {
+        for (const auto& piece : pieces_) piece->file.commit();
+        if (has_extension(spec_.path, ".pvti")) write_index();
+    }
 
 private:
+    struct Piece {
+        Piece(Slab s, const std::string& destination, bool keep)
+            : slab(s), file(partial_path(destination), destination, keep) {}
+        Slab slab;
+        PartialFile file;
+        std::uint64_t data = 0;
+    };
+
+    void write_index() const {
+        const Grid& g = spec_.layout.grid;
+        const std::array<double, 3> o = volume_origin(g), sp = volume_spacing(g);
+        std::string text = fmt::format(
+            "<?xml version=\"1.0\"?>\n"
+            "<VTKFile type=\"PImageData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
+            "  <PImageData WholeExtent=\"0 {} 0 {} 0 {}\" GhostLevel=\"0\" Origin=\"{:.17g} {:.17g} {:.17g}\" "
+            "Spacing=\"{:.17g} {:.17g} {:.17g}\">\n"
+            "    <PPointData Scalars=\"value\">\n"
+            "      <PDataArray type=\"Float64\" Name=\"value\"/>\n"
+            "    </PPointData>\n",
+            g.cols() - 1, g.rows() - 1, g.slices() - 1, o[0], o[1], o[2], sp[0], sp[1], sp[2]);
+        for (std::size_t p = 0; p < pieces_.size(); ++p)
+            text += fmt::format("    <Piece Extent=\"0 {} 0 {} {} {}\" Source=\"{}\"/>\n", g.cols() - 1, g.rows() - 1,
+                                pieces_[p]->slab.first, pieces_[p]->slab.last,
+                                std::filesystem::path(piece_path(spec_.path, int(p))).filename().string());
+        text += "  </PImageData>\n</VTKFile>\n";
+        write_file_atomically(spec_.path, [&](OutputFile& out) { out.write(text); });
+    }
+
     BrickOutputSpec spec_;
-    PartialFile file_;
-    std::uint64_t data_ = 0;
+    std::vector<std::unique_ptr<Piece>> pieces_;
 };
 
 /// One record per brick in the part's file: brick number, voxel count, then per voxel
@@ -71,7 +149,7 @@ struct RecordHeader {
 class VdbBricks final : public BrickOutput {
 public:
     explicit VdbBricks(const BrickOutputSpec& spec)
-        : spec_(spec), band_(vdb_band_width(spec.grid, spec.vdb_band)),
+        : spec_(spec), band_(vdb_band_width(spec.layout.grid, spec.vdb_band)),
           file_(remove_stale_parts(spec), spec.path, !spec.create) {
         if (!spec.create) file_.truncate(complete_records_end(file_.path()));
     }
@@ -93,7 +171,7 @@ public:
     std::optional<double> skip_beyond() const override { return band_; }
 
     void write(std::size_t index, const BrickBox& box, const std::vector<double>& values) override {
-        const Grid& g = spec_.grid;
+        const Grid& g = spec_.layout.grid;
         std::string record(sizeof(RecordHeader), '\0');
         std::uint64_t count = 0;
         for (int s = box.lo[2]; s <= box.hi[2]; ++s)
@@ -111,14 +189,15 @@ public:
         std::memcpy(record.data(), &h, sizeof h);
         std::lock_guard lock(mutex_);
         file_.append(record.data(), record.size());
-        file_.sync();
     }
+
+    void sync() override { file_.sync(); }
 
     void finish(std::size_t memory_limit) override {
         std::string error;
         const VdbModule* module = vdb_module(error);
         if (!module) throw OutputError(spec_.path, error);
-        void* builder = module->begin(spec_.grid, spec_.vdb_band);
+        void* builder = module->begin(spec_.layout.grid, spec_.vdb_band);
         if (!builder) throw OutputError(spec_.path, "OpenVDB could not start a grid");
         try {
             std::set<std::uint64_t> seen;   // a brick recomputed after a resume is in twice
@@ -194,13 +273,44 @@ private:
 }  // namespace
 
 bool brick_output_supported(const std::string& path) {
-    return has_extension(path, ".vti") || has_extension(path, ".vdb");
+    return has_extension(path, ".vti") || has_extension(path, ".vdb") || brick_output_only(path);
+}
+
+bool brick_output_only(const std::string& path) { return has_extension(path, ".pvti") || brick_output_collective(path); }
+
+bool brick_output_collective(const std::string& path) {
+    return has_extension(path, ".hdf") || has_extension(path, ".vtkhdf");
+}
+
+BrickLayout brick_layout(const std::string& path, const Grid& grid, int edge) {
+    if (has_extension(path, ".vdb")) return BrickLayout(grid, edge);
+    return BrickLayout::whole_rows(grid, edge);
+}
+
+bool brick_partials_exist(const BrickOutputSpec& spec) {
+    if (has_extension(spec.path, ".vdb")) return true;   // record files appear as ranks write
+    if (has_extension(spec.path, ".vti") || brick_output_collective(spec.path))
+        return std::filesystem::exists(partial_path(spec.path));
+    const std::size_t pieces = piece_slabs(spec.layout, spec.pieces).size();
+    for (std::size_t p = 0; p < pieces; ++p)
+        if (!std::filesystem::exists(partial_path(piece_path(spec.path, int(p))))) return false;
+    return true;
 }
 
 std::unique_ptr<BrickOutput> open_brick_output(const BrickOutputSpec& spec) {
-    if (has_extension(spec.path, ".vti")) return std::make_unique<VtiBricks>(spec);
+    if (has_extension(spec.path, ".vti") || has_extension(spec.path, ".pvti")) return std::make_unique<VtiBricks>(spec);
     if (has_extension(spec.path, ".vdb")) return std::make_unique<VdbBricks>(spec);
-    throw OutputError(spec.path, "only .vti and .vdb are written brick by brick");
+    if (brick_output_collective(spec.path)) return open_vtkhdf_bricks(spec);
+    throw OutputError(spec.path, "only .vti, .pvti, .hdf and .vdb are written brick by brick");
+}
+
+void write_field_as_brick(const Field& field, const OutputTarget& target, const OutputOptions&) {
+    const Grid& g = field.grid;
+    BrickOutputSpec spec{target.path, BrickLayout(g, std::array<int, 3>{g.cols(), g.rows(), g.slices()}), 3.0, 0, true, 1};
+    const std::unique_ptr<BrickOutput> output = open_brick_output(spec);
+    output->write(0, spec.layout.box(0), field.values);
+    output->close();
+    output->finish(0);
 }
 
 }  // namespace fortu

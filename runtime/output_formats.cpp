@@ -2,6 +2,7 @@
 // is generated from it: extension lookup, the usage text, the golden kinds.
 #include "runtime/output_formats.hpp"
 
+#include "runtime/brick_output.hpp"
 #include "runtime/contour.hpp"
 #include "runtime/csv.hpp"
 #include "runtime/exr.hpp"
@@ -49,6 +50,10 @@ const std::vector<OutputFormat> kFormats{
      .takes_mimages = true, .write = write_vti, .compare = compare_vti},
     {.name = "NRRD", .extensions = {"nrrd"}, .kind = OutputKind::Volume, .write = write_nrrd, .compare = compare_nrrd},
     {.name = "OpenVDB", .extensions = {"vdb"}, .kind = OutputKind::Volume, .holds = "narrow band, --band", .write = write_vdb},
+    {.name = "VTK parallel ImageData", .extensions = {"pvti"}, .kind = OutputKind::Volume,
+     .holds = ".vti pieces, one per MPI rank", .write = write_field_as_brick},
+    {.name = "VTKHDF ImageData", .extensions = {"hdf", "vtkhdf"}, .kind = OutputKind::Volume,
+     .holds = "VTKHDF, ParaView 5.10+", .write = write_field_as_brick},
 };
 
 /// How the usage text names a kind.

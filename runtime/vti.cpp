@@ -16,9 +16,10 @@ namespace {
 
 int component_count(const Grid& g) { return g.dims == 3 ? 5 : 4; }
 
-std::string header_text(const Grid& g, bool mimages) {
+std::string header_text(const Grid& g, bool mimages, int first_slice = 0, int last_slice = -1) {
     const std::array<double, 3> o = volume_origin(g), s = volume_spacing(g);
-    const std::string extent = fmt::format("0 {} 0 {} 0 {}", g.cols() - 1, g.rows() - 1, g.slices() - 1);
+    if (last_slice < 0) last_slice = g.slices() - 1;
+    const std::string extent = fmt::format("0 {} 0 {} {} {}", g.cols() - 1, g.rows() - 1, first_slice, last_slice);
     std::string text = fmt::format(
         "<?xml version=\"1.0\"?>\n"
         "<VTKFile type=\"ImageData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
@@ -42,6 +43,9 @@ constexpr std::string_view kTrailer = "\n  </AppendedData>\n</VTKFile>\n";
 }  // namespace
 
 std::string vti_header(const Grid& grid) { return header_text(grid, false); }
+std::string vti_piece_header(const Grid& grid, int first_slice, int last_slice) {
+    return header_text(grid, false, first_slice, last_slice);
+}
 std::string_view vti_trailer() { return kTrailer; }
 
 void write_vti(const Field& field, const OutputTarget& target, const OutputOptions& options) {

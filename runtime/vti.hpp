@@ -20,6 +20,9 @@ void write_vti(const Field& field, const OutputTarget& target, const OutputOptio
 /// bricked run (brick_output.hpp) writes the same file at offsets.
 std::string vti_header(const Grid& grid);
 std::string_view vti_trailer();
+/// The header of a piece of that file holding slices first..last (the .pvti's pieces):
+/// its extent is the piece's, origin and spacing the whole grid's.
+std::string vti_piece_header(const Grid& grid, int first_slice, int last_slice);
 
 /// The "value" array of a .vti that write_vti() wrote for `grid`, in fortu's image order, or
 /// nullopt when the file is not one (the golden comparator reads it back).

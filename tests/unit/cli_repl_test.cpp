@@ -167,7 +167,7 @@ TEST_CASE("errors are file diagnostics of the typed line and the session goes on
           "                        ^\n"
           "fortu: error: :eval: the model has 2 argument(s); give 2 coordinate(s)\n"
           "fortu: error: :eval: 'zero' is not a finite coordinate\n"
-          "fortu: error: :render: cannot write 'out.xyz': the extension is not one of png, jpg, jpeg, tif, tiff, bmp, exr, npy, csv, svg, stl, obj, ply, vti, nrrd, vdb\n"
+          "fortu: error: :render: cannot write 'out.xyz': the extension is not one of png, jpg, jpeg, tif, tiff, bmp, exr, npy, csv, svg, stl, obj, ply, vti, nrrd, vdb, pvti, hdf, vtkhdf\n"
           "fortu: error: cannot write 'no/such/dir/x.fortu': directory 'no/such/dir' does not exist\n"
           "fortu: error: :engine: 'turbo' is not classic or voxel\n"
           "fortu: error: :rsystem: 'alpha=3' is not r0, minmax, r1 or alpha=A with A in (-1, 1]\n"

@@ -98,11 +98,14 @@ TEST_CASE("unix: `-o -` needs --format, --format needs `-o -`, and binary is not
     const auto missing = run_fortu("run m.fortu -o -", cwd);
     CHECK(missing.status == 2);
     CHECK(missing.out == "fortu: error: -o -: give the format with --format "
-                         "(png|jpg|tif|bmp|exr|npy|csv|svg|stl|obj|ply|vti|nrrd|vdb)\n");
+                         "(png|jpg|tif|bmp|exr|npy|csv|svg|stl|obj|ply|vti|nrrd|vdb|pvti|hdf)\n");
+    const auto pieces = run_fortu("run m.fortu -o - --format pvti", cwd);
+    CHECK(pieces.status == 2);
+    CHECK(pieces.out == "fortu: error: -o -: a .pvti names piece files beside it; give it a path (-o f.pvti)\n");
     const auto unknown = run_fortu("run m.fortu -o - --format gif", cwd);
     CHECK(unknown.status == 2);
     CHECK(unknown.out == "fortu: error: --format: unknown output format 'gif' (use "
-                         "png|jpg|tif|bmp|exr|npy|csv|svg|stl|obj|ply|vti|nrrd|vdb)\n");
+                         "png|jpg|tif|bmp|exr|npy|csv|svg|stl|obj|ply|vti|nrrd|vdb|pvti|hdf)\n");
     const auto stray = run_fortu("run m.fortu -o x.png --format png", cwd);
     CHECK(stray.status == 2);
     CHECK(stray.out == "fortu: error: --format applies to -o - (standard output); 'x.png' names its format by its "

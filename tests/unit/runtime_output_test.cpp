@@ -84,7 +84,7 @@ TEST_CASE("output_format_for follows the extension, case-insensitively") {
     CHECK(name("") == "none");
     CHECK(supported_output_extensions() ==
           std::vector<std::string>{"png", "jpg", "jpeg", "tif", "tiff", "bmp", "exr", "npy", "csv", "svg", "stl", "obj",
-                                   "ply", "vti", "nrrd", "vdb"});
+                                   "ply", "vti", "nrrd", "vdb", "pvti", "hdf", "vtkhdf"});
     CHECK(output_format_for("a.stl")->kind == OutputKind::Mesh);
     CHECK(output_format_for("a.PLY")->kind == OutputKind::Mesh);
     CHECK(output_format_for("a.vti")->kind == OutputKind::Volume);
@@ -104,9 +104,9 @@ TEST_CASE("the usage text and the golden kinds are generated from the table") {
                                      "    values: .npy .csv (x,y[,z],value lines)\n"
                                      "    zero contour: .svg\n"
                                      "    mesh: .stl (binary; ASCII with --ascii) .obj (with normals) .ply (binary, float64)\n"
-                                     "    volume: .vti (ParaView; value [+ n1..n5]) .nrrd .vdb (narrow band, --band)");
-    CHECK(output_extensions_text() == ".png .jpg .tif .bmp .exr .npy .csv .svg .stl .obj .ply .vti .nrrd .vdb");
-    CHECK(output_extensions_text(", ") == ".png, .jpg, .tif, .bmp, .exr, .npy, .csv, .svg, .stl, .obj, .ply, .vti, .nrrd, .vdb");
+                                     "    volume: .vti (ParaView; value [+ n1..n5]) .nrrd .vdb (narrow band, --band) .pvti (.vti pieces, one per MPI rank) .hdf (VTKHDF, ParaView 5.10+)");
+    CHECK(output_extensions_text() == ".png .jpg .tif .bmp .exr .npy .csv .svg .stl .obj .ply .vti .nrrd .vdb .pvti .hdf");
+    CHECK(output_extensions_text(", ") == ".png, .jpg, .tif, .bmp, .exr, .npy, .csv, .svg, .stl, .obj, .ply, .vti, .nrrd, .vdb, .pvti, .hdf");
     CHECK(golden_output_kinds() == std::vector<std::string>{"png", "exr", "npy", "csv", "svg", "stl", "obj", "ply", "vti", "nrrd"});
     CHECK(golden_output_format("npy") == output_format_for("x.npy"));
     CHECK(golden_output_format("jpg") == nullptr);   // lossy: no golden comparator
@@ -132,7 +132,7 @@ TEST_CASE("resolve_output: the format and whether the path is a series, decided 
     CHECK(slices.file(7) == "slice_007.svg");
     CHECK_THROWS_WITH_AS(resolve_output("out.xyz"),
                          "cannot write 'out.xyz': unknown output format '.xyz' (known: png, jpg, jpeg, tif, tiff, bmp, "
-                         "exr, npy, csv, svg, stl, obj, ply, vti, nrrd, vdb)",
+                         "exr, npy, csv, svg, stl, obj, ply, vti, nrrd, vdb, pvti, hdf, vtkhdf)",
                          OutputError);
 }
 
@@ -283,7 +283,7 @@ TEST_CASE("write_field: unknown extension, directory as destination, empty grid"
     ScratchDir dir;
     CHECK_THROWS_WITH_AS(write_field(y_plus_x(), dir / "out.xyz"),
                          ("cannot write '" + (dir / "out.xyz") +
-                          "': unknown output format '.xyz' (known: png, jpg, jpeg, tif, tiff, bmp, exr, npy, csv, svg, stl, obj, ply, vti, nrrd, vdb)")
+                          "': unknown output format '.xyz' (known: png, jpg, jpeg, tif, tiff, bmp, exr, npy, csv, svg, stl, obj, ply, vti, nrrd, vdb, pvti, hdf, vtkhdf)")
                              .c_str(),
                          OutputError);
     fs::create_directory(dir / "taken.csv");

@@ -33,9 +33,9 @@ namespace fortu {
 
 struct FeatureStats {
     std::size_t cells_tested = 0;     ///< cells whose normals disagree
-    std::size_t edge_vertices = 0;    ///< feature vertices on an R-operation's edge curve
-    std::size_t corner_vertices = 0;  ///< feature vertices where edges meet
-    std::size_t joined_faces = 0;     ///< faces across which two feature vertices were joined
+    std::size_t edge_vertices = 0;    ///< vertices where an R-operation's edge curve crosses a cell face
+    std::size_t corner_vertices = 0;  ///< vertices where edges meet
+    std::size_t chain_edges = 0;      ///< mesh edges along the edge curves (cells redone count again)
 };
 
 /// Rewrites `mesh` (made on `grid`'s lattice; `triangle_cells[t]` the cell of triangle t,

@@ -42,6 +42,11 @@ constexpr double kReachFactor = 2.0;
 /// not make it degenerate, nor flip its projection.
 constexpr double kMinArea = 1e-4;
 constexpr double kMinProjectedArea = 1e-6;
+/// The same bounds for the triangles of a cell an edge crosses: an edge that passes within
+/// 1e-4 cell of a grid edge (it happens: the Steinmetz curve on a lattice of 33) leaves only
+/// slivers of about 1e-8 cell² there, still 100 times the independent checker's 1e-10.
+constexpr double kMinChainArea = 1e-9;
+constexpr double kMinChainProjectedArea = 1e-11;
 /// Newton's method stops when a step is below this fraction of a cell; the point is then
 /// on the feature to round-off (quadratic convergence, one step for planes).
 constexpr double kStepTolerance = 1e-13;
@@ -584,7 +589,8 @@ private:
         const auto& op = field_.operations()[k];
         int first = -1, previous = -1;
         visited_.insert(visit_key(cell, k));
-        for (int steps = 0; steps < kMaxTraceSteps; ++steps) {
+        int steps_here = 0;  // a curve that stays in one cell that long is a small loop
+        for (int steps = 0; steps < kMaxTraceSteps && ++steps_here <= kMaxStepsInCell; ++steps) {
             const Cell box = cell_box(cell);
             const double h = box.h;
             field_.at(p);
@@ -647,6 +653,7 @@ private:
             cell = neighbour;
             previous = id;
             p = q;
+            steps_here = 0;
             visited_.insert(visit_key(cell, k));
         }
         return first;
@@ -742,7 +749,7 @@ private:
                     const Vec normal = cross(sub(positions_[poly[k]], positions_[poly[i]]),
                                              sub(positions_[poly[j]], positions_[poly[i]]));
                     const double area = norm(normal) / 2;
-                    if (!(area >= kMinArea * h * h) || !(sides + area < c)) continue;
+                    if (!(area >= kMinChainArea * h * h) || !(sides + area < c)) continue;
                     c = sides + area;
                     best[i * n + j] = k;
                 }
@@ -771,7 +778,7 @@ private:
         for (double& c : normal) c /= length;
         for (const Tri& t : triangles) {
             const Vec tn = cross(sub(positions_[t[1]], positions_[t[0]]), sub(positions_[t[2]], positions_[t[0]]));
-            if (!(dot(tn, normal) / 2 >= kMinProjectedArea * h * h)) return false;
+            if (!(dot(tn, normal) / 2 >= kMinChainProjectedArea * h * h)) return false;
         }
         const Vec helper = std::fabs(normal[0]) < 0.6 ? Vec{1, 0, 0} : Vec{0, 1, 0};
         Vec e1 = cross(normal, helper);
@@ -809,16 +816,24 @@ private:
             const int axis = int(face % 3);
             const Vec& q = positions_[crossings_[x].vertex];
             const double plane = q[axis];
-            double nearest = 1e300;
-            std::size_t at = n;
+            // The same choice from both cells: each segment measured from its lower vertex
+            // index, and near ties (a crossing next to a vertex two segments share) broken by
+            // the segment's vertices.
+            std::vector<std::tuple<double, uint32_t, uint32_t, std::size_t>> candidates;
             for (std::size_t i = 0; i < n; ++i) {
-                const Vec &u = positions_[loop[i]], &v = positions_[loop[(i + 1) % n]];
+                const uint32_t a = std::min(loop[i], loop[(i + 1) % n]), b = std::max(loop[i], loop[(i + 1) % n]);
+                const Vec &u = positions_[a], &v = positions_[b];
                 if (std::fabs(u[axis] - plane) > tolerance || std::fabs(v[axis] - plane) > tolerance) continue;
                 const Vec d = sub(v, u);
                 const double s = std::clamp(dot(sub(q, u), d) / dot(d, d), 0.0, 1.0);
-                const double distance = norm(sub(q, {u[0] + s * d[0], u[1] + s * d[1], u[2] + s * d[2]}));
-                if (distance < nearest) nearest = distance, at = i;
+                candidates.emplace_back(norm(sub(q, {u[0] + s * d[0], u[1] + s * d[1], u[2] + s * d[2]})), a, b, i);
             }
+            double nearest = 1e300;
+            for (const auto& c : candidates) nearest = std::min(nearest, std::get<0>(c));
+            std::size_t at = n;
+            std::pair<uint32_t, uint32_t> chosen{UINT32_MAX, UINT32_MAX};
+            for (const auto& [distance, a, b, i] : candidates)
+                if (distance <= nearest + 1e-9 * h && std::pair{a, b} < chosen) chosen = {a, b}, at = i;
             if (at == n || nearest > h || insert[at] >= 0) return false;
             insert[at] = x;
         }
@@ -962,6 +977,7 @@ private:
     }
 
     static constexpr int kMaxTraceSteps = 1 << 22;
+    static constexpr int kMaxStepsInCell = 64;
 
     FeatureField field_;
     Mesh& mesh_;

@@ -1,5 +1,5 @@
-// interp/mesh_features.cpp — feature cells, their points by Newton's method, the fans and the
-// flips across shared faces (the why is in mesh_features.hpp).
+// interp/mesh_features.cpp — seeds, edge curves traced cell to cell, their face crossings and
+// corners, and the cells re-triangulated through them (the why is in mesh_features.hpp).
 #include "interp/mesh_features.hpp"
 
 #include "interp/lane_kernel.hpp"

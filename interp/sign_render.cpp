@@ -176,8 +176,7 @@ void render_signs(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
     // Allocating the result (page faults: ~3 ms for 1024²) runs on its own thread while
     // the first levels of the tree only decide boxes; their fills wait for it. One sequential
     // pass writes the background (a SignVolume in huge pages, huge_pages.hpp); a cancelled
-    // volume reads NaN everywhere.
-    constexpr bool kVolume = !std::is_same_v<Value, double>;
+    // render reads NaN everywhere, so no unreached node passes for outside.
     std::exception_ptr allocation_failure;
     std::jthread allocation([&] {  // joined on any exit, so an exception cannot leave it running
         try {
@@ -248,8 +247,8 @@ void render_signs(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
         renderer.render(items[i].box, *items[i].tape, scratch[worker], 0, worker_stats[worker]);
         return items[i].box.points();
     });
-    if constexpr (kVolume)
-        if (options.cancel && options.cancel->load()) std::fill(signs.begin(), signs.end(), SignVolume::kNaN);
+    if (options.cancel && options.cancel->load())
+        std::fill(signs.begin(), signs.end(), stored_sign<Value>(std::nan("")));
     if (stats) {
         SignRenderStats total;
         for (const SignRenderStats& w : worker_stats) {

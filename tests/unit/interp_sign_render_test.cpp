@@ -9,6 +9,8 @@
 
 #include <doctest/doctest.h>
 
+#include <atomic>
+
 #include <cmath>
 #include <filesystem>
 #include <fmt/format.h>
@@ -236,4 +238,21 @@ TEST_CASE("a sign volume past 2 MiB (huge pages) counts its statistics as the fl
     CHECK(a.mean == b.mean);
     CHECK(b.invalid == 32 * 129 * 129);   // x < -0.5: the 32 first columns
     CHECK(b.zero == 97 * 129);            // z = 0.5 where x ≥ -0.5
+}
+
+TEST_CASE("a cancelled sign render reads NaN everywhere: no unreached node passes for outside") {
+    // A disc and a ball: inside and outside both decided, so a finished render has no NaN.
+    const std::atomic<bool> cancelled{true};
+    EvalOptions options;
+    options.cancel = &cancelled;
+    test::Compiled disc = test::compile_text("ARGUMENT x(-1, 1), y(-1, 1);\nRETURN 0.5 - x*x - y*y;\n");
+    REQUIRE_MESSAGE(disc.model, disc.sink.render_all());
+    const Grid plane = grid_for(*disc.model, 33, 0);
+    CHECK(field_stats(sign_render(disc.model->graph, disc.model->root, plane, options)).invalid == plane.points());
+    CHECK(field_stats(sign_render(disc.model->graph, disc.model->root, plane)).invalid == 0);
+    test::Compiled ball = test::compile_text("ARGUMENT x(-1, 1), y(-1, 1), z(-1, 1);\nRETURN 0.5 - x*x - y*y - z*z;\n");
+    REQUIRE_MESSAGE(ball.model, ball.sink.render_all());
+    const Grid cube = grid_for(*ball.model, 0, 17);
+    CHECK(sign_render_volume(ball.model->graph, ball.model->root, cube, options).stats().invalid == cube.points());
+    CHECK(sign_render_volume(ball.model->graph, ball.model->root, cube).stats().invalid == 0);
 }

@@ -220,7 +220,12 @@ int command_run_files(const CliOptions& o);
 
 /// `fortu run`: `-o -` writes into a temporary file sent to standard output once complete.
 int command_run(const CliOptions& o) {
-    if (!o.sets.empty()) return run_sweep(o, command_run);
+    if (!o.sets.empty()) {
+        World& world = World::get();
+        if (!world.distributed()) return run_sweep(o, command_run);
+        World::Counter counter(world);   // the points are shared out like bricks (one at a time)
+        return run_sweep(o, command_run, [&counter] { return counter.next(); });
+    }
     if (!is_stdout_path(o.output)) return command_run_files(o);
     StdoutOutput out(o.format);
     CliOptions to_file = o;

@@ -1,13 +1,21 @@
 // cli/sweep.cpp — parameter sweeps over CONSTANTs (sweep.hpp).
 #include "cli/sweep.hpp"
 
-#include "cli/mpi_world.hpp"
+#include "cli/run_checks.hpp"
+
+#include "runtime/brick_output.hpp"
+#include "runtime/parallel.hpp"
+#include "runtime/progress.hpp"
+#include "runtime/resources.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <charconv>
 #include <cmath>
 #include <fmt/format.h>
+#include <exception>
 #include <iostream>
+#include <thread>
 
 namespace fortu {
 namespace {
@@ -47,7 +55,9 @@ SweepAxis parse_sweep(const std::string& text) {
                  step = parse_number(parts[2], text);
     if (step == 0 || (last - first) / step < 0)
         throw UsageError(fmt::format("--set: the step of '{}' does not go from {} to {}", text, first, last));
-    const double count = std::floor((last - first) / step + 1e-9) + 1;
+    // The last value counts when the steps reach it within rounding, relative to their number.
+    const double steps = (last - first) / step;
+    const double count = std::floor(steps + 1e-9 * std::max(1.0, steps)) + 1;
     if (count > double(kMaxSweepPoints))
         throw UsageError(fmt::format("--set: '{}' has {} values, more than {}", text, count, kMaxSweepPoints));
     // first + k * step, read back from 15 significant digits: 0.1 + 2 * 0.1 is
@@ -73,7 +83,64 @@ std::string sweep_path(const std::string& path, const std::vector<std::pair<std:
     return out;
 }
 
-int run_sweep(const CliOptions& o, const std::function<int(const CliOptions&)>& run_one) {
+namespace {
+
+/// The CliOptions of point n of the product of `axes` (the first axis varies fastest).
+CliOptions point_options(const CliOptions& o, const std::vector<SweepAxis>& axes, std::uint64_t n) {
+    CliOptions point = o;
+    point.sets.clear();
+    point.sweep_point = true;
+    std::uint64_t rest = n;
+    for (const SweepAxis& a : axes) {
+        point.constants.emplace_back(a.name, a.values[rest % a.values.size()]);
+        rest /= a.values.size();
+    }
+    for (std::string* path : {&point.output, &point.mimages, &point.contour}) *path = sweep_path(*path, point.constants);
+    return point;
+}
+
+/// A bricked run bounds its memory and already spreads its bricks over every thread: two of
+/// them side by side would break --memory.
+bool runs_bricked(const CliOptions& o) {
+    return o.memory > 0 || o.resume || (!o.output.empty() && brick_output_only(o.output));
+}
+
+/// Points 1.. of a sweep on one process, `side_by_side` at a time, each on its share of the
+/// threads. Their bars stay off (one terminal line); the sweep draws its own.
+int run_side_by_side(const CliOptions& o, const std::vector<SweepAxis>& axes, std::size_t points, int side_by_side,
+                     const std::function<int(const CliOptions&)>& run_one) {
+    const int threads_each = std::max(1, resolve_threads(o.threads) / side_by_side);
+    Progress bar(fmt::format("sweep, {} runs at a time", side_by_side), points - 1);
+    std::atomic<std::uint64_t> next{1};
+    std::atomic<int> worst{0};
+    std::atomic<bool> failed{false};
+    std::exception_ptr failure;
+    auto worker = [&] {
+        const Progress::Quiet quiet;
+        try {
+            for (std::uint64_t n = next++; n < points && !failed.load(); n = next++) {
+                CliOptions point = point_options(o, axes, n);
+                point.threads = threads_each;
+                const int status = run_one(point);
+                for (int w = worst.load(); status > w && !worst.compare_exchange_weak(w, status);) {}
+                bar.advance();
+            }
+        } catch (...) {
+            if (!failed.exchange(true)) failure = std::current_exception();
+        }
+    };
+    std::vector<std::thread> pool;
+    for (int t = 1; t < side_by_side; ++t) pool.emplace_back(worker);
+    worker();
+    for (std::thread& t : pool) t.join();
+    bar.finish();
+    if (failure) std::rethrow_exception(failure);
+    return worst.load();
+}
+
+}  // namespace
+
+int run_sweep(const CliOptions& o, const std::function<int(const CliOptions&)>& run_one, const SweepCounter& shared_next) {
     std::vector<SweepAxis> axes;
     for (const std::string& s : o.sets) axes.push_back(parse_sweep(s));
     std::size_t points = 1;
@@ -86,22 +153,31 @@ int run_sweep(const CliOptions& o, const std::function<int(const CliOptions&)>& 
                     throw UsageError(fmt::format("--set {}: '{}' has no %{}, so every run would overwrite it", a.name,
                                                  *path, a.name));
     }
-    World& world = World::get();
-    World::Counter counter(world);   // the points are shared out like bricks (one at a time)
-    int worst = 0;
-    for (std::uint64_t n = counter.next(); n < points; n = counter.next()) {
-        CliOptions point = o;
-        point.sets.clear();
-        point.sweep_point = true;
-        std::size_t rest = n;
-        for (const SweepAxis& a : axes) {
-            point.constants.emplace_back(a.name, a.values[rest % a.values.size()]);
-            rest /= a.values.size();
-        }
-        for (std::string* path : {&point.output, &point.mimages, &point.contour}) *path = sweep_path(*path, point.constants);
-        worst = std::max(worst, run_one(point));
+    const int threads = resolve_threads(o.threads);
+    if (shared_next || points == 1 || threads == 1 || runs_bricked(o)) {
+        std::uint64_t local = 0;
+        const SweepCounter next = shared_next ? shared_next : SweepCounter([&local] { return local++; });
+        int worst = 0;
+        for (std::uint64_t n = next(); n < points; n = next()) worst = std::max(worst, run_one(point_options(o, axes, n)));
+        return worst;
     }
-    return worst;
+    // One process: the first run alone on every thread (its footprint is measured), then the
+    // rest side by side, as many as there are threads and as half the free memory holds. A
+    // run's serial parts (compiling, encoding, the write's fsync) then overlap instead of
+    // leaving cores idle. A first run that failed goes on one at a time: its diagnostics,
+    // likely repeated by every run, must not interleave.
+    const PeakMemoryProbe memory;
+    const int first = run_one(point_options(o, axes, 0));
+    const std::size_t footprint = std::max<std::size_t>(memory.growth(), 1);
+    std::size_t side_by_side = first != 0 ? 1 : std::min<std::size_t>(std::size_t(threads), points - 1);
+    if (const std::size_t available = available_memory(); available > 0)
+        side_by_side = std::clamp<std::size_t>(available / 2 / footprint, 1, side_by_side);
+    if (side_by_side == 1) {
+        int worst = first;
+        for (std::uint64_t n = 1; n < points; ++n) worst = std::max(worst, run_one(point_options(o, axes, n)));
+        return worst;
+    }
+    return std::max(first, run_side_by_side(o, axes, points, int(side_by_side), run_one));
 }
 
 }  // namespace fortu

@@ -16,6 +16,8 @@ namespace {
 
 constexpr auto kRedraw = std::chrono::milliseconds(100);
 
+thread_local bool quiet_thread = false;
+
 int terminal_width(std::FILE* out) {
     winsize size{};
     if (ioctl(fileno(out), TIOCGWINSZ, &size) == 0 && size.ws_col >= 20) return size.ws_col;
@@ -27,8 +29,11 @@ int terminal_width(std::FILE* out) {
 Progress::Progress(std::string label, std::size_t total)
     : label_(std::move(label)), total_(total), out_(stderr), delay_(1.0),
       started_(std::chrono::steady_clock::now()) {
-    start(isatty(fileno(stderr)) != 0);
+    start(!quiet_thread && isatty(fileno(stderr)) != 0);
 }
+
+Progress::Quiet::Quiet() : was_(quiet_thread) { quiet_thread = true; }
+Progress::Quiet::~Quiet() { quiet_thread = was_; }
 
 Progress::Progress(std::string label, std::size_t total, std::FILE* out, double delay_seconds)
     : label_(std::move(label)), total_(total), out_(out), delay_(delay_seconds),

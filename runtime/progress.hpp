@@ -19,7 +19,8 @@ namespace fortu {
 /// advance() is one relaxed atomic add, cheap enough to call per tile or per row.
 class Progress {
 public:
-    /// Draws on stderr if it is a terminal (isatty), after 1 s.
+    /// Draws on stderr if it is a terminal (isatty), after 1 s, unless a Quiet is alive on
+    /// this thread.
     Progress(std::string label, std::size_t total);
     /// Draws on `out` whatever it is, after `delay_seconds`; never if `out` is null (for tests
     /// and embedding).
@@ -30,6 +31,19 @@ public:
 
     /// Records `n` more units of work done. Thread-safe.
     void advance(std::size_t n = 1) { done_.fetch_add(n, std::memory_order_relaxed); }
+    /// While one lives, bars made on its thread by the stderr constructor do not draw: runs
+    /// that go side by side (a sweep) would fight over one terminal line.
+    class Quiet {
+    public:
+        Quiet();
+        ~Quiet();
+        Quiet(const Quiet&) = delete;
+        Quiet& operator=(const Quiet&) = delete;
+
+    private:
+        bool was_;
+    };
+
     /// Units done so far.
     std::size_t done() const { return done_.load(std::memory_order_relaxed); }
     std::size_t total() const { return total_; }

@@ -1,9 +1,12 @@
-// runtime/resources.cpp — getrusage and number formatting.
+// runtime/resources.cpp — getrusage, the peak-RSS mark, and number formatting.
 #include "runtime/resources.hpp"
 
 #include <fmt/format.h>
 
 #include <cmath>
+#include <fstream>
+#include <malloc.h>
+#include <string>
 
 #include <sys/resource.h>
 
@@ -14,6 +17,50 @@ std::size_t peak_rss_bytes() {
     if (getrusage(RUSAGE_SELF, &usage) != 0 || usage.ru_maxrss < 0) return 0;
     return static_cast<std::size_t>(usage.ru_maxrss) * 1024;   // Linux reports KiB
 }
+
+namespace {
+
+/// A field of /proc/self/status in bytes (VmRSS, VmHWM); 0 when unavailable.
+std::size_t proc_status_bytes(const std::string& field) {
+    std::ifstream in("/proc/self/status");
+    std::string line;
+    while (std::getline(in, line))
+        if (line.rfind(field + ":", 0) == 0) return std::stoull(line.substr(field.size() + 1)) * 1024;
+    return 0;
+}
+
+/// Resets the peak-RSS mark; false when the kernel refuses. First hands the memory that
+/// earlier work freed back to the kernel: glibc keeps freed blocks (and raises its mmap
+/// threshold after a large free), which would otherwise count in the next stretch's RSS.
+bool reset_peak_rss() {
+#ifdef __GLIBC__
+    malloc_trim(0);
+#endif
+    std::ofstream out("/proc/self/clear_refs");
+    out << "5";
+    out.flush();
+    return bool(out);
+}
+
+bool& clear_refs_works() {
+    static bool works = reset_peak_rss();
+    return works;
+}
+
+}  // namespace
+
+PeakMemoryProbe::PeakMemoryProbe()
+    : per_stretch_(clear_refs_works() && reset_peak_rss()),
+      before_(per_stretch_ ? proc_status_bytes("VmRSS") : peak_rss_bytes()) {}
+
+std::size_t PeakMemoryProbe::peak() const { return per_stretch_ ? proc_status_bytes("VmHWM") : peak_rss_bytes(); }
+
+std::size_t PeakMemoryProbe::growth() const {
+    const std::size_t p = peak();
+    return p > before_ ? p - before_ : 0;
+}
+
+const char* memory_method() { return clear_refs_works() ? "clear_refs" : "ru_maxrss"; }
 
 std::string format_count(std::uint64_t count) {
     const std::string digits = std::to_string(count);

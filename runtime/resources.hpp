@@ -13,6 +13,23 @@ namespace fortu {
 /// the system cannot tell.
 std::size_t peak_rss_bytes();
 
+/// The peak resident memory of a stretch of work: from construction on when the kernel lets
+/// the peak mark be reset (/proc/self/clear_refs), else the process's peak so far. Resetting
+/// the mark also lowers what peak_rss_bytes() reports afterwards.
+class PeakMemoryProbe {
+public:
+    PeakMemoryProbe();
+    std::size_t peak() const;     ///< bytes
+    std::size_t growth() const;   ///< peak minus the resident size at construction
+
+private:
+    bool per_stretch_ = false;
+    std::size_t before_ = 0;
+};
+
+/// How PeakMemoryProbe measures, for the reports ("clear_refs" or "ru_maxrss").
+const char* memory_method();
+
 /// Wall-clock time since construction or the last restart(), on the steady clock.
 class Stopwatch {
 public:

@@ -1,7 +1,7 @@
 // cli/bench/bench_measure.cpp — timing one bench cell. Peak memory per cell: the kernel's peak-RSS
 // mark (VmHWM) is reset through /proc/self/clear_refs before the cell and read after it, so
 // each cell reports its own peak, not the process's; where that is refused, the process's
-// ru_maxrss growth over the cell is reported instead (memory_method() says which).
+// ru_maxrss growth over the cell is reported instead (memory_method() says which; PeakMemoryProbe).
 #include "cli/bench/bench_measure.hpp"
 
 #include "cli/data_paths.hpp"
@@ -19,9 +19,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fmt/format.h>
-#include <fstream>
 #include <iostream>
-#include <malloc.h>
 #include <numbers>
 #include <time.h>
 
@@ -41,45 +39,7 @@ std::optional<Model> compile_source(std::shared_ptr<SourceFile> source) {
     return model;
 }
 
-/// A field of /proc/self/status in bytes (VmRSS, VmHWM); 0 when unavailable.
-std::size_t proc_status_bytes(const std::string& field) {
-    std::ifstream in("/proc/self/status");
-    std::string line;
-    while (std::getline(in, line))
-        if (line.rfind(field + ":", 0) == 0) return std::stoull(line.substr(field.size() + 1)) * 1024;
-    return 0;
-}
-
-/// Resets the peak-RSS mark; false when the kernel refuses. First hands the memory that
-/// earlier cells freed back to the kernel: glibc keeps freed blocks (and raises its mmap
-/// threshold after a large free), which would otherwise count in the next cell's RSS.
-bool reset_peak_rss() {
-#ifdef __GLIBC__
-    malloc_trim(0);
-#endif
-    std::ofstream out("/proc/self/clear_refs");
-    out << "5";
-    out.flush();
-    return bool(out);
-}
-
-bool& clear_refs_works() {
-    static bool works = reset_peak_rss();
-    return works;
-}
-
 }  // namespace
-
-PeakMemoryProbe::PeakMemoryProbe()
-    : per_stretch_(clear_refs_works() && reset_peak_rss()),
-      before_(per_stretch_ ? proc_status_bytes("VmRSS") : peak_rss_bytes()) {}
-
-std::size_t PeakMemoryProbe::peak() const { return per_stretch_ ? proc_status_bytes("VmHWM") : peak_rss_bytes(); }
-
-std::size_t PeakMemoryProbe::growth() const {
-    const std::size_t p = peak();
-    return p > before_ ? p - before_ : 0;
-}
 
 std::filesystem::path examples_folder(const std::string& given) {
     if (!given.empty()) return given;
@@ -140,7 +100,6 @@ double median_of(std::vector<double> v) {
     return n % 2 ? v[n / 2] : (v[n / 2 - 1] + v[n / 2]) / 2;
 }
 
-const char* memory_method() { return clear_refs_works() ? "clear_refs" : "ru_maxrss"; }
 
 void ClassicRate::observe(const BenchCell& cell, int threads) {
     if (!cell.engine->capabilities().expanded_tree_cost || cell.skipped || cell.median <= 0) return;
@@ -232,14 +191,12 @@ std::vector<BenchCell> measure_interleaved(const std::vector<SeriesEntry>& entri
                                            const MeasureOptions& options) {
     std::vector<BenchCell> cells;
     for (const SeriesEntry& entry : entries) cells.push_back(new_cell(entry.name, *entry.model, entry.grid, engine));
-    const bool per_series_peak = clear_refs_works() && reset_peak_rss();
-    const std::size_t rss_before = per_series_peak ? proc_status_bytes("VmRSS") : peak_rss_bytes();
+    const PeakMemoryProbe memory;
     for (int round = 0; round < std::max(1, options.repeat); ++round)
         for (std::size_t i = 0; i < entries.size(); ++i) timed_run(cells[i], *entries[i].model, options);
-    const std::size_t peak = per_series_peak ? proc_status_bytes("VmHWM") : peak_rss_bytes();
     for (BenchCell& c : cells) {
-        c.peak_rss_bytes = peak;
-        c.rss_growth_bytes = peak > rss_before ? peak - rss_before : 0;
+        c.peak_rss_bytes = memory.peak();
+        c.rss_growth_bytes = memory.growth();
         summarise(c);
     }
     return cells;
@@ -266,16 +223,15 @@ BenchCell measure_cell(const std::string& name, const Model& model, const Grid& 
         }
     }
 
-    const bool per_cell_peak = clear_refs_works() && reset_peak_rss();
-    const std::size_t rss_before = per_cell_peak ? proc_status_bytes("VmRSS") : peak_rss_bytes();
+    const PeakMemoryProbe memory;
     double total = 0;
     for (int i = 0; i < std::max(1, options.repeat); ++i) {
         if (i > 0 && total >= options.repeat_cap) break;
         timed_run(cell, model, options);
         total += cell.seconds.back();
     }
-    cell.peak_rss_bytes = per_cell_peak ? proc_status_bytes("VmHWM") : peak_rss_bytes();
-    cell.rss_growth_bytes = cell.peak_rss_bytes > rss_before ? cell.peak_rss_bytes - rss_before : 0;
+    cell.peak_rss_bytes = memory.peak();
+    cell.rss_growth_bytes = memory.growth();
     summarise(cell);
     rate.observe(cell, options.threads);
     return cell;

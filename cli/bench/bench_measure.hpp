@@ -9,6 +9,7 @@
 #include "interp/engine.hpp"
 #include "interp/model.hpp"
 #include "runtime/grid.hpp"
+#include "runtime/resources.hpp"
 
 #include <cstddef>
 #include <filesystem>
@@ -42,19 +43,6 @@ struct MeasureOptions {
     int threads = 0;              ///< EvalOptions::threads
     double budget = 2e10;         ///< classic operations per cell before it is skipped
     bool mimages = false;         ///< each run also computes the M-images (not for sign cells)
-};
-
-/// The peak resident memory of a stretch of work: from construction on when the kernel lets
-/// the peak mark be reset (/proc/self/clear_refs), else the process's peak so far.
-class PeakMemoryProbe {
-public:
-    PeakMemoryProbe();
-    std::size_t peak() const;     ///< bytes
-    std::size_t growth() const;   ///< peak minus the resident size at construction
-
-private:
-    bool per_stretch_ = false;
-    std::size_t before_ = 0;
 };
 
 /// One measured (or skipped) combination of model, engine and grid.
@@ -126,9 +114,6 @@ struct SeriesEntry {
 /// for every cell.
 std::vector<BenchCell> measure_interleaved(const std::vector<SeriesEntry>& entries, const Engine& engine,
                                            const MeasureOptions& options);
-
-/// How peak memory was measured, for the reports ("clear_refs" or "ru_maxrss").
-const char* memory_method();
 
 double median_of(std::vector<double> values);
 

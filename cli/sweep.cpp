@@ -106,11 +106,11 @@ bool runs_bricked(const CliOptions& o) {
 }
 
 /// Points 1.. of a sweep on one process, `side_by_side` at a time, each on its share of the
-/// threads. Their bars stay off (one terminal line); the sweep draws its own.
+/// threads. Their bars stay off: they would fight over one terminal line, and a sweep's bar
+/// would be cut by the runs' `wrote` lines, which show the progress instead.
 int run_side_by_side(const CliOptions& o, const std::vector<SweepAxis>& axes, std::size_t points, int side_by_side,
                      const std::function<int(const CliOptions&)>& run_one) {
     const int threads_each = std::max(1, resolve_threads(o.threads) / side_by_side);
-    Progress bar(fmt::format("sweep, {} runs at a time", side_by_side), points - 1);
     std::atomic<std::uint64_t> next{1};
     std::atomic<int> worst{0};
     std::atomic<bool> failed{false};
@@ -123,7 +123,6 @@ int run_side_by_side(const CliOptions& o, const std::vector<SweepAxis>& axes, st
                 point.threads = threads_each;
                 const int status = run_one(point);
                 for (int w = worst.load(); status > w && !worst.compare_exchange_weak(w, status);) {}
-                bar.advance();
             }
         } catch (...) {
             if (!failed.exchange(true)) failure = std::current_exception();
@@ -133,7 +132,6 @@ int run_side_by_side(const CliOptions& o, const std::vector<SweepAxis>& axes, st
     for (int t = 1; t < side_by_side; ++t) pool.emplace_back(worker);
     worker();
     for (std::thread& t : pool) t.join();
-    bar.finish();
     if (failure) std::rethrow_exception(failure);
     return worst.load();
 }
@@ -153,31 +151,35 @@ int run_sweep(const CliOptions& o, const std::function<int(const CliOptions&)>& 
                     throw UsageError(fmt::format("--set {}: '{}' has no %{}, so every run would overwrite it", a.name,
                                                  *path, a.name));
     }
-    const int threads = resolve_threads(o.threads);
-    if (shared_next || points == 1 || threads == 1 || runs_bricked(o)) {
-        std::uint64_t local = 0;
-        const SweepCounter next = shared_next ? shared_next : SweepCounter([&local] { return local++; });
+    auto one_after_another = [&](const SweepCounter& next) {
         int worst = 0;
         for (std::uint64_t n = next(); n < points; n = next()) worst = std::max(worst, run_one(point_options(o, axes, n)));
         return worst;
-    }
-    // One process: the first run alone on every thread (its footprint is measured), then the
-    // rest side by side, as many as there are threads and as half the free memory holds. A
-    // run's serial parts (compiling, encoding, the write's fsync) then overlap instead of
-    // leaving cores idle. A first run that failed goes on one at a time: its diagnostics,
-    // likely repeated by every run, must not interleave.
+    };
+    if (shared_next) return one_after_another(shared_next);
+
+    // One process: the first run alone on every thread, its footprint measured. A first run
+    // that failed ends the sweep: what fails it (a script error, a --set name the script
+    // lacks, a missing folder) would fail every run alike.
     const PeakMemoryProbe memory;
     const int first = run_one(point_options(o, axes, 0));
-    const std::size_t footprint = std::max<std::size_t>(memory.growth(), 1);
-    std::size_t side_by_side = first != 0 ? 1 : std::min<std::size_t>(std::size_t(threads), points - 1);
-    if (const std::size_t available = available_memory(); available > 0)
-        side_by_side = std::clamp<std::size_t>(available / 2 / footprint, 1, side_by_side);
-    if (side_by_side == 1) {
-        int worst = first;
-        for (std::uint64_t n = 1; n < points; ++n) worst = std::max(worst, run_one(point_options(o, axes, n)));
-        return worst;
+    if (first != 0 && points > 1) {
+        std::cerr << fmt::format("fortu: note: the sweep stops: its first run failed ({} more not started)\n",
+                                 points - 1);
+        return first;
     }
-    return std::max(first, run_side_by_side(o, axes, points, int(side_by_side), run_one));
+    // Then the rest side by side, as many as there are threads and as half the free memory
+    // holds: a run's serial parts (compiling, encoding, the write's fsync) overlap instead of
+    // leaving cores idle. Bricked runs bound their memory and use every thread already.
+    std::size_t side_by_side = runs_bricked(o) ? 1 : std::min<std::size_t>(resolve_threads(o.threads), points - 1);
+    if (const std::size_t available = available_memory(); available > 0 && side_by_side > 1)
+        side_by_side = std::clamp<std::size_t>(available / 2 / std::max<std::size_t>(memory.growth(), 1), 1,
+                                               side_by_side);
+    if (side_by_side <= 1) {
+        std::uint64_t n = 1;
+        return std::max(first, one_after_another([&n] { return n++; }));
+    }
+    return run_side_by_side(o, axes, points, int(side_by_side), run_one);
 }
 
 }  // namespace fortu

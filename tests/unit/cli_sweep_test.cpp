@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <iostream>
+#include <sstream>
 #include <mutex>
 #include <thread>
 
@@ -87,21 +89,28 @@ TEST_CASE("sweep: on one process the first run goes alone on every thread, the r
     CHECK(std::adjacent_find(sorted.begin(), sorted.end()) == sorted.end());
 }
 
-TEST_CASE("sweep: one thread, a bricked run bounded by --memory, or a failed first run: one after another") {
-    for (const char* why : {"one thread", "--memory", "first run failed"}) {
-        CAPTURE(why);
+TEST_CASE("sweep: one thread, or a bricked run bounded by --memory, runs one after another in order") {
+    for (const bool memory_bound : {false, true}) {
+        CAPTURE(memory_bound);
         Recorder runs;
-        const std::string reason = why;
-        CliOptions o = sweep_of("R=0:0.3:0.1", reason == "one thread" ? 1 : 0);
-        if (reason == "--memory") o.memory = std::size_t(1) << 30;
-        const int status = run_sweep(o, [&](const CliOptions& p) {
-            return runs(p, reason == "first run failed" && p.constants[0].second == 0.0 ? 1 : 0);
-        });
-        CHECK(status == (reason == "first run failed" ? 1 : 0));
-        CHECK(runs.values == std::vector<double>{0, 0.1, 0.2, 0.3});
+        CliOptions o = sweep_of("R=0:0.3:0.1", memory_bound ? 0 : 1);
+        if (memory_bound) o.memory = std::size_t(1) << 30;
+        CHECK(run_sweep(o, [&](const CliOptions& p) { return runs(p, p.constants[0].second == 0.2 ? 1 : 0); }) == 1);
+        CHECK(runs.values == std::vector<double>{0, 0.1, 0.2, 0.3});   // a later failure does not stop it
         CHECK(runs.most_at_once.load() == 1);
         CHECK(runs.threads == std::vector<int>(4, o.threads));
     }
+}
+
+TEST_CASE("sweep: a failed first run ends the sweep, with a note") {
+    Recorder runs;
+    std::ostringstream err;
+    std::streambuf* saved = std::cerr.rdbuf(err.rdbuf());
+    const int status = run_sweep(sweep_of("R=0:0.3:0.1", 2), [&](const CliOptions& p) { return runs(p, 1); });
+    std::cerr.rdbuf(saved);
+    CHECK(status == 1);
+    CHECK(runs.values == std::vector<double>{0});
+    CHECK(err.str() == "fortu: note: the sweep stops: its first run failed (3 more not started)\n");
 }
 
 TEST_CASE("sweep: a run's usage error ends the sweep, is carried to the caller, and no run starts twice") {

@@ -3,6 +3,7 @@
 // forward neighbours (fv-method.md §1). Its components, palette-encoded, are the M-images.
 #pragma once
 
+#include "runtime/bricks.hpp"
 #include "runtime/field.hpp"
 #include "runtime/grid.hpp"
 #include "runtime/parallel.hpp"
@@ -57,7 +58,24 @@ public:
     /// (k = 1..4 in 2D, 1..5 in 3D). `field` is on the grid given to the constructor.
     void row(const Field& field, int row, int slice, double* const* out) const;
 
+    /// The nodes whose values the stencils of `own`'s nodes read: `own` and one node more on
+    /// each axis's forward side where the grid has one (the backward neighbour, inside the
+    /// grid, at its last column / top row / last slice).
+    BrickBox reach(const BrickBox& own) const;
+    /// The components of the nodes of `own` from the values of the box `held` (BrickBox::local
+    /// order; `held` contains reach(own)): n_k of a node into out[k-1][own.local(...)]. The
+    /// whole grid's coordinates and neighbours, only offset, and the same arithmetic as
+    /// row(): a brick's components equal the whole field's bit for bit.
+    void box(const double* values, const BrickBox& held, const BrickBox& own, double* const* out) const;
+    /// n + 2: 4 in 2D, 5 in 3D.
+    int components() const { return grid_.dims == 3 ? 5 : 4; }
+
 private:
+    /// Columns col_lo..col_hi of one row: here[c - x0], up[c - x0], front[c - x0] are the
+    /// values at column c of the row, of its Y neighbour row and of its Z neighbour slice.
+    void span(const double* here, const double* up, const double* front, int x0, int row, int slice, int col_lo,
+              int col_hi, double* const* out, std::size_t at) const;
+
     Grid grid_;
     std::vector<double> coord_[3], step_[3];
     std::vector<int> next_[3];

@@ -331,17 +331,27 @@ void write_field_as_brick(const Field& field, const OutputTarget& target, const 
     const Grid& g = field.grid;
     BrickOutputSpec spec{target.path, BrickLayout(g, std::array<int, 3>{g.cols(), g.rows(), g.slices()}), 3.0, 0, true, 1};
     spec.mimages = options.mimages;
-    const BrickBox whole = spec.layout.box(0);
-    std::vector<double> components;
-    if (options.mimages) {
-        const FvStencil stencil(g);
-        components.resize(std::size_t(stencil.components()) * whole.points());
-        double* out[5];
-        for (int k = 0; k < stencil.components(); ++k) out[k] = components.data() + k * whole.points();
-        stencil.box(field.values.data(), whole, whole, out);
-    }
     const std::unique_ptr<BrickOutput> output = open_brick_output(spec);
-    output->write(0, whole, field.values, components);
+    const BrickBox whole = spec.layout.box(0);
+    if (!options.mimages) {
+        output->write(0, whole, field.values, {});
+    } else {
+        // Slabs of whole slices, so the components take a slab's memory, not five fields'.
+        const FvStencil stencil(g);
+        const std::size_t slice_points = std::size_t(g.cols()) * g.rows();
+        const int slab = int(std::clamp<std::size_t>((std::size_t(1) << 20) / slice_points, 1, g.slices()));
+        std::vector<double> values, components;
+        for (int first = 0; first < g.slices(); first += slab) {
+            const BrickBox part{{0, 0, first}, {g.cols() - 1, g.rows() - 1, std::min(first + slab, g.slices()) - 1}};
+            const auto from = field.values.begin() + std::ptrdiff_t(g.index(0, 0, first));
+            values.assign(from, from + std::ptrdiff_t(part.points()));
+            components.resize(std::size_t(stencil.components()) * part.points());
+            double* out[5];
+            for (int k = 0; k < stencil.components(); ++k) out[k] = components.data() + k * part.points();
+            stencil.box(field.values.data(), whole, part, out);
+            output->write(0, part, values, components);
+        }
+    }
     output->close();
     output->finish(0);
 }

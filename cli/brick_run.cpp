@@ -13,6 +13,7 @@
 #include "interp/stage_print.hpp"
 #include "runtime/brick_files.hpp"
 #include "runtime/brick_output.hpp"
+#include "runtime/fv_model.hpp"
 #include "runtime/output_error.hpp"
 #include "runtime/parallel.hpp"
 #include "runtime/resources.hpp"
@@ -131,7 +132,7 @@ int run_bricked(const Model& model, const CliOptions& o, double compile_seconds)
                 "--memory {}: one brick of {}³ nodes{} needs about {} beside the {} this process holds; give a smaller "
                 "--brick or more --memory",
                 format_bytes(bound), o.brick,
-                mimages ? fmt::format(" (with its overlap and the M-images' {} components)", grid.dims == 3 ? 5 : 4)
+                mimages ? fmt::format(" (with its overlap and the M-images' {} components)", fv_component_count(grid))
                         : "",
                 format_bytes(per_worker), format_bytes(base)));
         const int fit = int(std::min<std::size_t>((bound - base) / per_worker, 1024));

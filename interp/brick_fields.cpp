@@ -40,7 +40,7 @@ std::size_t brick_fields_bytes(const BrickLayout& layout, bool components) {
         own *= edge;
         reach *= std::min(edge + 1, std::size_t(nodes[a]));
     }
-    const std::size_t arrays = g.dims == 3 ? 5 : 4;
+    const std::size_t arrays = std::size_t(fv_component_count(g));
     return components ? 8 * (reach + own * (1 + arrays)) : 8 * own;
 }
 

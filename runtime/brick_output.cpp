@@ -104,7 +104,7 @@ private:
     };
 
     /// The value, and the components with M-images.
-    int arrays() const { return 1 + (spec_.mimages ? vti_component_count(spec_.layout.grid) : 0); }
+    int arrays() const { return 1 + (spec_.mimages ? fv_component_count(spec_.layout.grid) : 0); }
 
     /// One array's part of a brick (BrickBox::local order) to its offsets in every piece.
     void write_array(const BrickBox& box, int array, const double* values) {

@@ -16,6 +16,10 @@
 
 namespace fortu {
 
+/// The components of a node of `grid`'s FV model: n + 2 for an n-argument model (n1..n4 in
+/// 2D, n1..n5 in 3D).
+inline int fv_component_count(const Grid& grid) { return grid.dims == 3 ? 5 : 4; }
+
 /// The normalised plane n1·x + n2·y + n3·z + n4 = 0 through three points {x, y, z}
 /// (fv-method.md §1.1, coefficients by formula 1.1.3, divided by the four-term norm
 /// √(A²+B²+C²+D²)), oriented so that n3 > 0. All NaN if a coordinate is not finite or
@@ -67,8 +71,7 @@ public:
     /// whole grid's coordinates and neighbours, only offset, and the same arithmetic as
     /// row(): a brick's components equal the whole field's bit for bit.
     void box(const double* values, const BrickBox& held, const BrickBox& own, double* const* out) const;
-    /// n + 2: 4 in 2D, 5 in 3D.
-    int components() const { return grid_.dims == 3 ? 5 : 4; }
+    int components() const { return fv_component_count(grid_); }
 
 private:
     /// Columns col_lo..col_hi of one row: here[c - x0], up[c - x0], front[c - x0] are the
@@ -87,7 +90,7 @@ private:
 template <class Visit>
 void for_each_fv_row(const Field& field, int slice, Visit&& visit) {
     const Grid& g = field.grid;
-    const std::size_t components = g.dims == 3 ? 5 : 4, cols = static_cast<std::size_t>(g.cols());
+    const std::size_t components = static_cast<std::size_t>(fv_component_count(g)), cols = static_cast<std::size_t>(g.cols());
     const std::size_t rows = static_cast<std::size_t>(g.rows());
     const FvStencil stencil(g);
     std::vector<std::vector<double>> scratch(static_cast<std::size_t>(worker_count(rows, 0)),
@@ -112,7 +115,7 @@ public:
 
     const Grid& grid() const { return grid_; }
     /// n + 2 for an n-argument model: 4 in 2D, 5 in 3D.
-    int components() const { return grid_.dims == 3 ? 5 : 4; }
+    int components() const { return fv_component_count(grid_); }
     std::size_t nodes() const { return grid_.points(); }
 
     /// Component n_k (k = 1..components(), as in the spec's n1..n5) of a node in image order.

@@ -14,7 +14,7 @@
 namespace fortu {
 namespace {
 
-int component_count(const Grid& g) { return g.dims == 3 ? 5 : 4; }
+int component_count(const Grid& g) { return fv_component_count(g); }
 
 std::string header_text(const Grid& g, bool mimages, int first_slice = 0, int last_slice = -1) {
     const std::array<double, 3> o = volume_origin(g), s = volume_spacing(g);
@@ -46,7 +46,6 @@ std::string vti_header(const Grid& grid, bool mimages) { return header_text(grid
 std::string vti_piece_header(const Grid& grid, int first_slice, int last_slice, bool mimages) {
     return header_text(grid, mimages, first_slice, last_slice);
 }
-int vti_component_count(const Grid& grid) { return component_count(grid); }
 std::string_view vti_trailer() { return kTrailer; }
 
 void write_vti(const Field& field, const OutputTarget& target, const OutputOptions& options) {

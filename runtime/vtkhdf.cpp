@@ -8,6 +8,7 @@
 #include "runtime/vtkhdf.hpp"
 
 #include "runtime/brick_files.hpp"
+#include "runtime/fv_model.hpp"
 #include "runtime/output_error.hpp"
 #include "runtime/volume_order.hpp"
 
@@ -126,7 +127,7 @@ private:
     std::vector<std::string> array_names() const {
         std::vector<std::string> names{"value"};
         if (spec_.mimages)
-            for (int k = 1; k <= (spec_.layout.grid.dims == 3 ? 5 : 4); ++k) names.push_back(fmt::format("n{}", k));
+            for (int k = 1; k <= fv_component_count(spec_.layout.grid); ++k) names.push_back(fmt::format("n{}", k));
         return names;
     }
 

@@ -7,12 +7,13 @@
 #include "cli/run_checks.hpp"
 #include "cli/run_grid.hpp"
 
-#include "interp/brick_eval.hpp"
+#include "interp/brick_fields.hpp"
 #include "interp/engine.hpp"
 #include "interp/grid_size.hpp"
 #include "interp/stage_print.hpp"
 #include "runtime/brick_files.hpp"
 #include "runtime/brick_output.hpp"
+#include "runtime/fv_model.hpp"
 #include "runtime/output_error.hpp"
 #include "runtime/parallel.hpp"
 #include "runtime/resources.hpp"
@@ -50,17 +51,23 @@ Grid bricked_grid(const Model& model, const CliOptions& o) {
     return grid;
 }
 
+std::string extension(const std::string& path) { return std::filesystem::path(path).extension().string(); }
+
+/// The file whose name the done map takes: -o, or --mimages when it is the only output.
+const std::string& lead_output(const CliOptions& o) { return o.output.empty() ? o.mimages : o.output; }
+
 /// What identifies the values of a run: a done map of another run must not be resumed.
+/// Whether the M-images are written is part of it: their files are other partial files.
 std::string run_key(const Model& model, const BrickLayout& layout, int pieces, const CliOptions& o,
                     const Engine& engine) {
     const Grid& g = layout.grid;
     const std::size_t model_hash = std::hash<std::string>{}(print_stage(model, "", IrStage::Lower));
     return fmt::format("fortu bricks 2; grid {}x{}x{} x {:.17g}:{:.17g} y {:.17g}:{:.17g} z {:.17g}:{:.17g}; "
-                       "brick {}x{}x{}; {}; pieces {}; band {:.17g}; {}; model {:016x}",
+                       "brick {}x{}x{}; {}; mimages {}; pieces {}; band {:.17g}; {}; model {:016x}",
                        g.cols(), g.rows(), g.slices(), g.x.min, g.x.max, g.y.min, g.y.max, g.z.min, g.z.max,
                        layout.shape[0], layout.shape[1], layout.shape[2],
-                       std::filesystem::path(o.output).extension().string(), pieces, o.vdb_band, engine.description(),
-                       model_hash);
+                       o.output.empty() ? "none" : extension(o.output), o.mimages.empty() ? "none" : extension(o.mimages),
+                       pieces, o.vdb_band, engine.description(), model_hash);
 }
 
 struct WorkerStats {
@@ -72,8 +79,9 @@ struct WorkerStats {
 }  // namespace
 
 bool wants_bricks(const Model& model, const CliOptions& o) {
-    if (model.dims() != 3 || o.slice || !brick_output_supported(o.output)) return false;
-    return o.memory > 0 || o.resume || brick_output_only(o.output) || (World::get().distributed() && !o.sweep_point);
+    if (model.dims() != 3 || o.slice || !brick_output_supported(lead_output(o))) return false;
+    return o.memory > 0 || o.resume || brick_output_only(o.output) || brick_output_only(o.mimages) ||
+           (World::get().distributed() && !o.sweep_point);
 }
 
 int run_bricked(const Model& model, const CliOptions& o, double compile_seconds) {
@@ -81,38 +89,52 @@ int run_bricked(const Model& model, const CliOptions& o, double compile_seconds)
     if (o.sweep_point && world.distributed())
         throw UsageError("--set under mpirun shares out the sweep's runs; each run is in memory (drop --memory and "
                          "--resume)");
-    if (!o.mimages.empty() || !o.contour.empty() || !o.steps.empty() || o.compare)
-        throw UsageError("a bricked run (--memory, --resume, mpirun) writes -o only: drop --mimages, --contour, "
+    if (!o.contour.empty() || !o.steps.empty() || o.compare)
+        throw UsageError("a bricked run (--memory, --resume, mpirun) writes -o and --mimages only: drop --contour, "
                          "--steps and --compare");
+    if (!o.mimages.empty() && !brick_output_takes_mimages(o.mimages))
+        throw UsageError(fmt::format("--mimages {}: a bricked run writes M-images brick by brick to .vti, .pvti or "
+                                     ".hdf (the value and n1..n5 as point data)",
+                                     o.mimages));
     const std::unique_ptr<Engine> engine = o.engine->tuned(o.engine_settings);
     const EngineCapabilities can = engine->capabilities();
     if (!can.exact || can.float32 || can.sign_only)
-        throw UsageError(fmt::format("a bricked run computes the float64 values of the exact engines ({}); "
-                                     "--engine {} is not one of them",
-                                     engine_names(", ", " and ", [](const EngineCapabilities& c) { return c.exact; }),
-                                     engine->description()));
+        throw UsageError(fmt::format(
+            "a bricked run computes the float64 values of the exact engines ({}); --engine {} is not one of them{}",
+            engine_names(", ", " and ", [](const EngineCapabilities& c) { return c.exact; }), engine->description(),
+            // The fv engine (palette: M-images at every operation) cannot be cut into bricks at all.
+            can.palette ? ": its value at a node is composed from the M-images of every operation, so it depends on "
+                          "neighbours through the whole model and no overlap of bricks can make it exact"
+                        : ""));
     const Grid grid = bricked_grid(model, o);
     check_outputs(o, grid);
-    const BrickLayout layout = brick_layout(o.output, grid, o.brick);
+    const BrickLayout layout = brick_layout(lead_output(o), grid, o.brick);
     // A .pvti: one piece per rank, or per layer of bricks on one process.
-    const bool pvti = std::filesystem::path(o.output).extension() == ".pvti";
+    const bool pvti = extension(o.output) == ".pvti" || extension(o.mimages) == ".pvti";
     const int pieces = pvti ? std::min(world.distributed() ? world.size() : layout.counts[2], layout.counts[2]) : 1;
     if (pvti && world.distributed() && pieces < world.size() && world.rank() == 0)
         std::cerr << fmt::format("fortu: note: {} pieces for {} ranks (the grid has {} layers of bricks along Z)\n",
                                  pieces, world.size(), layout.counts[2]);
 
-    // Memory: the bricks in flight (values, a .vdb's records) and each evaluator's scratch.
-    const bool sparse = std::filesystem::path(o.output).extension() == ".vdb";
+    // Memory: the bricks in flight (values, with M-images the overlap and the components, a
+    // .vdb's records) and each evaluator's scratch.
+    const bool sparse = extension(o.output) == ".vdb";
+    const bool mimages = !o.mimages.empty();
     const std::size_t brick_points = layout.brick_points();
-    const std::size_t per_worker = brick_points * (sparse ? 24 : 8) + brick_evaluator_bytes(model.graph, model.root);
+    const std::size_t per_worker = brick_fields_bytes(layout, mimages) + (sparse ? 16 * brick_points : 0) +
+                                   brick_evaluator_bytes(model.graph, model.root);
     const std::size_t base = peak_rss_bytes();
     const std::size_t bound = o.memory ? o.memory : available_memory();
     int threads = resolve_threads(o.threads);
     if (bound) {
         if (base + per_worker > bound)
             throw UsageError(fmt::format(
-                "--memory {}: one brick of {}³ nodes needs about {} beside the {} this process holds; give a smaller "
-                "--brick or more --memory", format_bytes(bound), o.brick, format_bytes(per_worker), format_bytes(base)));
+                "--memory {}: one brick of {}³ nodes{} needs about {} beside the {} this process holds; give a smaller "
+                "--brick or more --memory",
+                format_bytes(bound), o.brick,
+                mimages ? fmt::format(" (with its overlap and the M-images' {} components)", fv_component_count(grid))
+                        : "",
+                format_bytes(per_worker), format_bytes(base)));
         const int fit = int(std::min<std::size_t>((bound - base) / per_worker, 1024));
         if (fit < threads) {
             if (world.rank() == 0)
@@ -122,32 +144,43 @@ int run_bricked(const Model& model, const CliOptions& o, double compile_seconds)
         }
     }
 
-    // The done map and the partial output: rank 0 starts (or resumes) them, the others join.
+    // The done map (named after the lead output) and the partial outputs, -o's and the
+    // M-images': rank 0 starts (or resumes) them, the others join; a collective file is
+    // opened by every rank at once (parallel HDF5).
     const std::string key = run_key(model, layout, pieces, o, *engine);
-    const bool collective = brick_output_collective(o.output);
-    const BrickOutputSpec spec{o.output, layout, o.vdb_band, world.rank(), true, pieces,
-                               collective && world.distributed(), &world.mpi_mutex()};
-    const bool resumable = std::filesystem::exists(done_map_path(o.output)) && brick_partials_exist(spec);
+    std::vector<BrickOutputSpec> specs;
+    for (const std::string* path : {&o.output, &o.mimages}) {
+        if (path->empty()) continue;
+        const bool collective = brick_output_collective(*path);
+        specs.push_back({*path, layout, o.vdb_band, world.rank(), true, pieces, collective && world.distributed(),
+                         &world.mpi_mutex(), path == &o.mimages});
+    }
+    const std::string& lead = lead_output(o);
+    const bool resumable = std::filesystem::exists(done_map_path(lead)) &&
+                           std::all_of(specs.begin(), specs.end(), [](const auto& s) { return brick_partials_exist(s); });
     if (o.resume && !resumable && world.rank() == 0)
-        std::cerr << fmt::format("fortu: note: no unfinished run of '{}' to resume; starting afresh\n", o.output);
+        std::cerr << fmt::format("fortu: note: no unfinished run of '{}' to resume; starting afresh\n", lead);
     const bool resume = o.resume && resumable;
-    std::unique_ptr<BrickOutput> output;
+    std::vector<std::unique_ptr<BrickOutput>> outputs(specs.size());
     std::unique_ptr<DoneMap> done;
-    auto open_output = [&](bool create) {
-        BrickOutputSpec mine = spec;
-        mine.create = create;
-        output = open_brick_output(mine);
+    auto open_outputs = [&](bool collective, bool create) {
+        for (std::size_t i = 0; i < specs.size(); ++i) {
+            if (brick_output_collective(specs[i].path) != collective) continue;
+            BrickOutputSpec mine = specs[i];
+            mine.create = create;
+            outputs[i] = open_brick_output(mine);
+        }
     };
     auto open = [&](bool first) {
-        if (!collective) open_output(first && !resume);
-        done = std::make_unique<DoneMap>(o.output, key, first ? (resume ? DoneMap::Mode::Resume : DoneMap::Mode::Fresh)
-                                                              : DoneMap::Mode::Join);
+        open_outputs(false, first && !resume);
+        done = std::make_unique<DoneMap>(lead, key, first ? (resume ? DoneMap::Mode::Resume : DoneMap::Mode::Fresh)
+                                                          : DoneMap::Mode::Join);
     };
     try {
         if (world.rank() == 0) open(true);
         world.barrier();
         if (world.rank() != 0) open(false);
-        if (collective) open_output(!resume);   // every rank at once (parallel HDF5)
+        open_outputs(true, !resume);
     } catch (const OutputError& e) {
         std::cerr << fmt::format("fortu: error: {}\n", e.what());
         if (world.distributed()) world.abort(1);
@@ -172,19 +205,26 @@ int run_bricked(const Model& model, const CliOptions& o, double compile_seconds)
     std::atomic<bool> stop{false};
     {
         World::Counter counter(world);
-        DoneRecorder recorder(*done, [&] { output->sync(); });
+        DoneRecorder recorder(*done, [&] {
+            for (const auto& output : outputs) output->sync();
+        });
+        // A sparse -o alone may skip what lies beyond its band; components need every value.
+        const std::optional<double> skip_beyond = mimages ? std::nullopt : outputs.front()->skip_beyond();
         auto work = [&](int worker) {
             try {
-                BrickEvaluator evaluator(model.graph, model.root, grid);
-                std::vector<double> values;
+                BrickFieldEvaluator evaluator(model.graph, model.root, grid, mimages);
+                BrickFields fields;
                 WorkerStats& st = stats[worker];
                 while (!stop) {
                     const std::uint64_t n = counter.next();
                     if (n >= todo.size()) break;
                     const BrickBox box = layout.box(todo[n]);
                     Stopwatch brick_clock;
-                    const BrickStats b = evaluator.evaluate(box, values, output->skip_beyond());
-                    output->write(todo[n], box, values);
+                    const BrickStats b = evaluator.evaluate(box, fields, skip_beyond);
+                    for (std::size_t i = 0; i < outputs.size(); ++i)
+                        outputs[i]->write(todo[n], box, fields.values,
+                                          specs[i].mimages ? std::span<const double>(fields.components)
+                                                           : std::span<const double>());
                     recorder.finished(todo[n]);
                     const double seconds = brick_clock.seconds();
                     ++st.bricks;
@@ -228,7 +268,7 @@ int run_bricked(const Model& model, const CliOptions& o, double compile_seconds)
     }
     times_file.reset();
     try {
-        output->close();
+        for (const auto& output : outputs) output->close();
     } catch (const OutputError& e) {
         std::cerr << fmt::format("fortu: error: {}\n", e.what());
         if (world.distributed()) world.abort(1);
@@ -241,7 +281,7 @@ int run_bricked(const Model& model, const CliOptions& o, double compile_seconds)
     Stopwatch assemble_clock;
     if (world.rank() == 0) {
         try {
-            output->finish(bound > base ? bound - base : 0);
+            for (const auto& output : outputs) output->finish(bound > base ? bound - base : 0);
             done->remove();
         } catch (const OutputError& e) {
             std::cerr << fmt::format("fortu: error: {}\n", e.what());

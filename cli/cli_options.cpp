@@ -184,7 +184,9 @@ void add_picture_options(OptionTable& t, CliOptions& o) {
 }
 
 void add_run_outputs(OptionTable& t, CliOptions& o) {
-    t.option("--mimages", "FILE", "the M-images: FILE.exr, FILE.vti (with the value), or\nFILE_%d.png for grey PNGs",
+    t.option("--mimages", "FILE", "the M-images: FILE.exr, FILE.vti|.pvti|.hdf (the value and\n"
+                                     "n1..n5; bricked runs too, a file of its own beside -o),\n"
+                                     "or FILE_%d.png for grey PNGs",
              [&o](const std::string& v) { o.mimages = v; });
     t.option("--contour", "FILE.svg", "the zero contour as SVG", [&o](const std::string& v) { o.contour = v; });
     t.flag("--float32", ".npy as float32 instead of float64", [&o] { o.float32 = true; });

@@ -3,6 +3,7 @@
 
 #include "runtime/atomic_file.hpp"
 #include "runtime/brick_files.hpp"
+#include "runtime/fv_model.hpp"
 #include "runtime/output_error.hpp"
 #include "runtime/vdb.hpp"
 #include "runtime/vti.hpp"
@@ -62,39 +63,25 @@ public:
             const std::string destination = split ? piece_path(spec.path, int(p)) : spec.path;
             pieces_.push_back(std::make_unique<Piece>(slabs[p], destination, !spec.create));
             Piece& piece = *pieces_.back();
-            const std::string header = split ? vti_piece_header(g, slabs[p].first, slabs[p].last) : vti_header(g);
+            const std::string header = split ? vti_piece_header(g, slabs[p].first, slabs[p].last, spec.mimages)
+                                             : vti_header(g, spec.mimages);
             const std::uint64_t bytes = 8 * std::uint64_t(g.cols()) * g.rows() * (slabs[p].last - slabs[p].first + 1);
             piece.data = header.size() + 8;
+            piece.array_stride = 8 + bytes;
             if (spec.create) {
                 piece.file.write_at(0, header.data(), header.size());
-                piece.file.write_at(header.size(), &bytes, 8);
+                // Each array after its length: the value, then the components n1...
+                for (int a = 0; a < arrays(); ++a) piece.file.write_at(header.size() + a * piece.array_stride, &bytes, 8);
                 const std::string_view trailer = vti_trailer();
-                piece.file.write_at(piece.data + bytes, trailer.data(), trailer.size());
+                piece.file.write_at(header.size() + arrays() * piece.array_stride, trailer.data(), trailer.size());
             }
         }
     }
 
-    void write(std::size_t, const BrickBox& box, const std::vector<double>& values) override {
-        const Grid& g = spec_.layout.grid;
-        const std::array<int, 3> e = box.extent();
-        std::vector<PartialFile::Piece> rows;
-        for (const auto& piece : pieces_)
-            for (int s = std::max(box.lo[2], piece->slab.first); s <= std::min(box.hi[2], piece->slab.last); ++s) {
-                // Volume order: Y from the smallest, so image row r is volume row rows-1-r.
-                auto offset = [&](int r) {
-                    return piece->data +
-                           8 * ((std::uint64_t(s - piece->slab.first) * g.rows() + (g.rows() - 1 - r)) * g.cols() + box.lo[0]);
-                };
-                if (e[0] == g.cols()) {   // whole rows: the slice's part is one run, rows in reverse
-                    rows.clear();
-                    for (int r = box.hi[1]; r >= box.lo[1]; --r)
-                        rows.push_back({values.data() + box.local(box.lo[0], r, s), 8 * std::size_t(e[0])});
-                    piece->file.write_at(offset(box.hi[1]), rows);
-                } else {
-                    for (int r = box.lo[1]; r <= box.hi[1]; ++r)
-                        piece->file.write_at(offset(r), values.data() + box.local(box.lo[0], r, s), 8 * std::size_t(e[0]));
-                }
-            }
+    void write(std::size_t, const BrickBox& box, const std::vector<double>& values,
+               std::span<const double> components) override {
+        write_array(box, 0, values.data());
+        for (int k = 1; k < arrays(); ++k) write_array(box, k, components.data() + (k - 1) * box.points());
     }
 
     void sync() override {
@@ -112,8 +99,36 @@ private:
             : slab(s), file(partial_path(destination), destination, keep) {}
         Slab slab;
         PartialFile file;
-        std::uint64_t data = 0;
+        std::uint64_t data = 0;           ///< where the value array's numbers start
+        std::uint64_t array_stride = 0;   ///< from one array's numbers to the next's
     };
+
+    /// The value, and the components with M-images.
+    int arrays() const { return 1 + (spec_.mimages ? fv_component_count(spec_.layout.grid) : 0); }
+
+    /// One array's part of a brick (BrickBox::local order) to its offsets in every piece.
+    void write_array(const BrickBox& box, int array, const double* values) {
+        const Grid& g = spec_.layout.grid;
+        const std::array<int, 3> e = box.extent();
+        std::vector<PartialFile::Piece> rows;
+        for (const auto& piece : pieces_)
+            for (int s = std::max(box.lo[2], piece->slab.first); s <= std::min(box.hi[2], piece->slab.last); ++s) {
+                // Volume order: Y from the smallest, so image row r is volume row rows-1-r.
+                auto offset = [&](int r) {
+                    return piece->data + array * piece->array_stride +
+                           8 * ((std::uint64_t(s - piece->slab.first) * g.rows() + (g.rows() - 1 - r)) * g.cols() + box.lo[0]);
+                };
+                if (e[0] == g.cols()) {   // whole rows: the slice's part is one run, rows in reverse
+                    rows.clear();
+                    for (int r = box.hi[1]; r >= box.lo[1]; --r)
+                        rows.push_back({values + box.local(box.lo[0], r, s), 8 * std::size_t(e[0])});
+                    piece->file.write_at(offset(box.hi[1]), rows);
+                } else {
+                    for (int r = box.lo[1]; r <= box.hi[1]; ++r)
+                        piece->file.write_at(offset(r), values + box.local(box.lo[0], r, s), 8 * std::size_t(e[0]));
+                }
+            }
+    }
 
     void write_index() const {
         const Grid& g = spec_.layout.grid;
@@ -124,9 +139,10 @@ private:
             "  <PImageData WholeExtent=\"0 {} 0 {} 0 {}\" GhostLevel=\"0\" Origin=\"{:.17g} {:.17g} {:.17g}\" "
             "Spacing=\"{:.17g} {:.17g} {:.17g}\">\n"
             "    <PPointData Scalars=\"value\">\n"
-            "      <PDataArray type=\"Float64\" Name=\"value\"/>\n"
-            "    </PPointData>\n",
+            "      <PDataArray type=\"Float64\" Name=\"value\"/>\n",
             g.cols() - 1, g.rows() - 1, g.slices() - 1, o[0], o[1], o[2], sp[0], sp[1], sp[2]);
+        for (int k = 1; k < arrays(); ++k) text += fmt::format("      <PDataArray type=\"Float64\" Name=\"n{}\"/>\n", k);
+        text += "    </PPointData>\n";
         for (std::size_t p = 0; p < pieces_.size(); ++p)
             text += fmt::format("    <Piece Extent=\"0 {} 0 {} {} {}\" Source=\"{}\"/>\n", g.cols() - 1, g.rows() - 1,
                                 pieces_[p]->slab.first, pieces_[p]->slab.last,
@@ -170,7 +186,8 @@ public:
 
     std::optional<double> skip_beyond() const override { return band_; }
 
-    void write(std::size_t index, const BrickBox& box, const std::vector<double>& values) override {
+    void write(std::size_t index, const BrickBox& box, const std::vector<double>& values,
+               std::span<const double>) override {
         const Grid& g = spec_.layout.grid;
         std::string record(sizeof(RecordHeader), '\0');
         std::uint64_t count = 0;
@@ -282,6 +299,10 @@ bool brick_output_collective(const std::string& path) {
     return has_extension(path, ".hdf") || has_extension(path, ".vtkhdf");
 }
 
+bool brick_output_takes_mimages(const std::string& path) {
+    return has_extension(path, ".vti") || has_extension(path, ".pvti") || brick_output_collective(path);
+}
+
 BrickLayout brick_layout(const std::string& path, const Grid& grid, int edge) {
     if (has_extension(path, ".vdb")) return BrickLayout(grid, edge);
     return BrickLayout::whole_rows(grid, edge);
@@ -298,17 +319,39 @@ bool brick_partials_exist(const BrickOutputSpec& spec) {
 }
 
 std::unique_ptr<BrickOutput> open_brick_output(const BrickOutputSpec& spec) {
+    if (spec.mimages && !brick_output_takes_mimages(spec.path))
+        throw OutputError(spec.path, "only .vti, .pvti and .hdf hold the M-images' components");
     if (has_extension(spec.path, ".vti") || has_extension(spec.path, ".pvti")) return std::make_unique<VtiBricks>(spec);
     if (has_extension(spec.path, ".vdb")) return std::make_unique<VdbBricks>(spec);
     if (brick_output_collective(spec.path)) return open_vtkhdf_bricks(spec);
     throw OutputError(spec.path, "only .vti, .pvti, .hdf and .vdb are written brick by brick");
 }
 
-void write_field_as_brick(const Field& field, const OutputTarget& target, const OutputOptions&) {
+void write_field_as_brick(const Field& field, const OutputTarget& target, const OutputOptions& options) {
     const Grid& g = field.grid;
     BrickOutputSpec spec{target.path, BrickLayout(g, std::array<int, 3>{g.cols(), g.rows(), g.slices()}), 3.0, 0, true, 1};
+    spec.mimages = options.mimages;
     const std::unique_ptr<BrickOutput> output = open_brick_output(spec);
-    output->write(0, spec.layout.box(0), field.values);
+    const BrickBox whole = spec.layout.box(0);
+    if (!options.mimages) {
+        output->write(0, whole, field.values, {});
+    } else {
+        // Slabs of whole slices, so the components take a slab's memory, not five fields'.
+        const FvStencil stencil(g);
+        const std::size_t slice_points = std::size_t(g.cols()) * g.rows();
+        const int slab = int(std::clamp<std::size_t>((std::size_t(1) << 20) / slice_points, 1, g.slices()));
+        std::vector<double> values, components;
+        for (int first = 0; first < g.slices(); first += slab) {
+            const BrickBox part{{0, 0, first}, {g.cols() - 1, g.rows() - 1, std::min(first + slab, g.slices()) - 1}};
+            const auto from = field.values.begin() + std::ptrdiff_t(g.index(0, 0, first));
+            values.assign(from, from + std::ptrdiff_t(part.points()));
+            components.resize(std::size_t(stencil.components()) * part.points());
+            double* out[5];
+            for (int k = 0; k < stencil.components(); ++k) out[k] = components.data() + k * part.points();
+            stencil.box(field.values.data(), whole, part, out);
+            output->write(0, part, values, components);
+        }
+    }
     output->close();
     output->finish(0);
 }

@@ -19,6 +19,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,7 @@ struct BrickOutputSpec {
     int pieces = 1;            ///< a .pvti's pieces (at most the layers of bricks along Z)
     bool collective = false;   ///< every MPI rank opens and closes the one file together (.hdf)
     std::mutex* mpi_mutex = nullptr;   ///< held by writers that call MPI (one thread at a time)
+    bool mimages = false;      ///< also the FV model's components n1.. (--mimages; .vti, .pvti, .hdf)
 };
 
 class BrickOutput {
@@ -40,8 +42,10 @@ public:
     virtual ~BrickOutput() = default;
     /// Values beyond ±this are not needed (a sparse format's band); nullopt: every value.
     virtual std::optional<double> skip_beyond() const { return std::nullopt; }
-    /// Writes one brick's values (BrickBox::local order). Thread-safe.
-    virtual void write(std::size_t index, const BrickBox& box, const std::vector<double>& values) = 0;
+    /// Writes one brick's values (BrickBox::local order) and, for spec.mimages, its components:
+    /// n_k of local node i at components[(k - 1) * box.points() + i]. Thread-safe.
+    virtual void write(std::size_t index, const BrickBox& box, const std::vector<double>& values,
+                       std::span<const double> components) = 0;
     /// Puts every brick written so far on disk (fdatasync). Thread-safe.
     virtual void sync() = 0;
     /// Ends this process's writing, on every rank (collective where the format is).
@@ -65,14 +69,20 @@ BrickLayout brick_layout(const std::string& path, const Grid& grid, int edge);
 /// True when every rank opens the file at once (brick_output_collective), not rank 0 first.
 bool brick_output_collective(const std::string& path);
 
+/// True for the brick formats that also hold the M-images' components (.vti, .pvti, .hdf,
+/// .vtkhdf): dense arrays of point data beside the value. A .vdb keeps a narrow band of one
+/// float grid, so it does not.
+bool brick_output_takes_mimages(const std::string& path);
+
 /// Whether the partial files of an unfinished run of `spec` are there to resume.
 bool brick_partials_exist(const BrickOutputSpec& spec);
 
 /// The writer for `spec.path`. Throws OutputError.
 std::unique_ptr<BrickOutput> open_brick_output(const BrickOutputSpec& spec);
 
-/// A field held in memory (a 2D run, a --slice) written by the brick writer as one brick:
-/// the output table's writer of the formats written only in bricks.
+/// A field held in memory (a 2D run, a --slice) written by the brick writer as one brick
+/// (options.mimages: with its components): the output table's writer of the formats written
+/// only in bricks.
 void write_field_as_brick(const Field& field, const OutputTarget& target, const OutputOptions& options);
 
 }  // namespace fortu

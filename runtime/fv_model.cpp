@@ -156,28 +156,55 @@ FvStencil::FvStencil(const Grid& grid) : grid_(grid) {
     }
 }
 
+void FvStencil::span(const double* here, const double* up, const double* front, int x0, int row, int slice,
+                     int col_lo, int col_hi, double* const* out, std::size_t at) const {
+    const double y = coord_[1][row], hy = step_[1][row];
+    if (grid_.dims != 3) {
+        for (int c = col_lo; c <= col_hi; ++c, ++at) {
+            double n[4];
+            stencil_plane(coord_[0][c], y, here[c - x0], step_[0][c], hy, here[next_[0][c] - x0], up[c - x0], n);
+            for (int k = 0; k < 4; ++k) out[k][at] = n[k];
+        }
+        return;
+    }
+    for (int c = col_lo; c <= col_hi; ++c, ++at) {
+        const double p[4] = {coord_[0][c], y, coord_[2][slice], here[c - x0]};
+        const double h[3] = {step_[0][c], hy, step_[2][slice]};
+        double n[5];
+        stencil_hyperplane(p, h, here[next_[0][c] - x0], up[c - x0], front[c - x0], n);
+        for (int k = 0; k < 5; ++k) out[k][at] = n[k];
+    }
+}
+
 void FvStencil::row(const Field& field, int row, int slice, double* const* out) const {
     const Grid& g = grid_;
     const double* values = field.values.data();
     const double* here = values + g.index(0, row, slice);
     const double* up = values + g.index(0, next_[1][row], slice);
-    const double y = coord_[1][row], hy = step_[1][row];
-    if (g.dims != 3) {
-        for (int c = 0; c < g.cols(); ++c) {
-            double n[4];
-            stencil_plane(coord_[0][c], y, here[c], step_[0][c], hy, here[next_[0][c]], up[c], n);
-            for (int k = 0; k < 4; ++k) out[k][c] = n[k];
+    const double* front = g.dims == 3 ? values + g.index(0, row, next_[2][slice]) : here;
+    span(here, up, front, 0, row, slice, 0, g.cols() - 1, out, 0);
+}
+
+BrickBox FvStencil::reach(const BrickBox& own) const {
+    BrickBox held = own;
+    for (int a = 0; a < 3; ++a) {
+        // Stencils read i and next(i); next is i ± 1, so the ends of the range decide.
+        const int lo = next_[a][own.lo[a]], hi = next_[a][own.hi[a]];
+        held.lo[a] = std::min({own.lo[a], lo, hi});
+        held.hi[a] = std::max({own.hi[a], lo, hi});
+    }
+    return held;
+}
+
+void FvStencil::box(const double* values, const BrickBox& held, const BrickBox& own, double* const* out) const {
+    assert(held.lo[0] <= own.lo[0] && held.hi[0] >= own.hi[0]);
+    for (int s = own.lo[2]; s <= own.hi[2]; ++s)
+        for (int r = own.lo[1]; r <= own.hi[1]; ++r) {
+            const double* here = values + held.local(held.lo[0], r, s);
+            const double* up = values + held.local(held.lo[0], next_[1][r], s);
+            const double* front = grid_.dims == 3 ? values + held.local(held.lo[0], r, next_[2][s]) : here;
+            span(here, up, front, held.lo[0], r, s, own.lo[0], own.hi[0], out, own.local(own.lo[0], r, s));
         }
-        return;
-    }
-    const double* front = values + g.index(0, row, next_[2][slice]);
-    for (int c = 0; c < g.cols(); ++c) {
-        const double p[4] = {coord_[0][c], y, coord_[2][slice], here[c]};
-        const double h[3] = {step_[0][c], hy, step_[2][slice]};
-        double n[5];
-        stencil_hyperplane(p, h, here[next_[0][c]], up[c], front[c], n);
-        for (int k = 0; k < 5; ++k) out[k][c] = n[k];
-    }
 }
 
 std::array<double, 5> fv_node(const Field& field, int col, int row, int slice) {

@@ -3,6 +3,7 @@
 // forward neighbours (fv-method.md §1). Its components, palette-encoded, are the M-images.
 #pragma once
 
+#include "runtime/bricks.hpp"
 #include "runtime/field.hpp"
 #include "runtime/grid.hpp"
 #include "runtime/parallel.hpp"
@@ -14,6 +15,10 @@
 #include <vector>
 
 namespace fortu {
+
+/// The components of a node of `grid`'s FV model: n + 2 for an n-argument model (n1..n4 in
+/// 2D, n1..n5 in 3D).
+inline int fv_component_count(const Grid& grid) { return grid.dims == 3 ? 5 : 4; }
 
 /// The normalised plane n1·x + n2·y + n3·z + n4 = 0 through three points {x, y, z}
 /// (fv-method.md §1.1, coefficients by formula 1.1.3, divided by the four-term norm
@@ -57,7 +62,23 @@ public:
     /// (k = 1..4 in 2D, 1..5 in 3D). `field` is on the grid given to the constructor.
     void row(const Field& field, int row, int slice, double* const* out) const;
 
+    /// The nodes whose values the stencils of `own`'s nodes read: `own` and one node more on
+    /// each axis's forward side where the grid has one (the backward neighbour, inside the
+    /// grid, at its last column / top row / last slice).
+    BrickBox reach(const BrickBox& own) const;
+    /// The components of the nodes of `own` from the values of the box `held` (BrickBox::local
+    /// order; `held` contains reach(own)): n_k of a node into out[k-1][own.local(...)]. The
+    /// whole grid's coordinates and neighbours, only offset, and the same arithmetic as
+    /// row(): a brick's components equal the whole field's bit for bit.
+    void box(const double* values, const BrickBox& held, const BrickBox& own, double* const* out) const;
+    int components() const { return fv_component_count(grid_); }
+
 private:
+    /// Columns col_lo..col_hi of one row: here[c - x0], up[c - x0], front[c - x0] are the
+    /// values at column c of the row, of its Y neighbour row and of its Z neighbour slice.
+    void span(const double* here, const double* up, const double* front, int x0, int row, int slice, int col_lo,
+              int col_hi, double* const* out, std::size_t at) const;
+
     Grid grid_;
     std::vector<double> coord_[3], step_[3];
     std::vector<int> next_[3];
@@ -69,7 +90,7 @@ private:
 template <class Visit>
 void for_each_fv_row(const Field& field, int slice, Visit&& visit) {
     const Grid& g = field.grid;
-    const std::size_t components = g.dims == 3 ? 5 : 4, cols = static_cast<std::size_t>(g.cols());
+    const std::size_t components = static_cast<std::size_t>(fv_component_count(g)), cols = static_cast<std::size_t>(g.cols());
     const std::size_t rows = static_cast<std::size_t>(g.rows());
     const FvStencil stencil(g);
     std::vector<std::vector<double>> scratch(static_cast<std::size_t>(worker_count(rows, 0)),
@@ -94,7 +115,7 @@ public:
 
     const Grid& grid() const { return grid_; }
     /// n + 2 for an n-argument model: 4 in 2D, 5 in 3D.
-    int components() const { return grid_.dims == 3 ? 5 : 4; }
+    int components() const { return fv_component_count(grid_); }
     std::size_t nodes() const { return grid_.points(); }
 
     /// Component n_k (k = 1..components(), as in the spec's n1..n5) of a node in image order.

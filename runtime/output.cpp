@@ -74,8 +74,17 @@ std::optional<std::string> mimages_path_problem(const std::string& path) {
     if (format && (format->kind == OutputKind::MImages || format->takes_mimages)) return std::nullopt;
     if (format && format->kind == OutputKind::Picture && format->lossy)
         return fmt::format("{} is lossy and would corrupt the M-image codes; use .png", format->name);
-    if (!format || format->kind != OutputKind::Picture)
-        return "M-images need a .exr or .vti file or a picture series such as 'm_%d.png'";
+    if (!format || format->kind != OutputKind::Picture) {
+        std::vector<std::string> files;   // the table's rows that hold the components
+        for (const OutputFormat& f : output_formats())
+            if (f.kind == OutputKind::MImages || f.takes_mimages) files.push_back(fmt::format(".{}", f.extension()));
+        std::string list = files.front();
+        for (std::size_t i = 1; i < files.size(); ++i) list += (i + 1 == files.size() ? " or " : ", ") + files[i];
+        const std::string need = fmt::format("M-images need a {} file or a picture series such as 'm_%d.png'", list);
+        if (format && format->kind == OutputKind::Volume) return fmt::format("{} holds the value alone{}; {}",
+            format->name, format->holds.empty() ? "" : fmt::format(" ({})", format->holds), need);
+        return need;
+    }
     if (!is_file_series(path))
         return "M-images are n+2 pictures: put %d in the name (e.g. 'm_%d.png') or use .exr";
     return std::nullopt;

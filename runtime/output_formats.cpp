@@ -51,9 +51,9 @@ const std::vector<OutputFormat> kFormats{
     {.name = "NRRD", .extensions = {"nrrd"}, .kind = OutputKind::Volume, .write = write_nrrd, .compare = compare_nrrd},
     {.name = "OpenVDB", .extensions = {"vdb"}, .kind = OutputKind::Volume, .holds = "narrow band, --band", .write = write_vdb},
     {.name = "VTK parallel ImageData", .extensions = {"pvti"}, .kind = OutputKind::Volume,
-     .holds = ".vti pieces, one per MPI rank", .write = write_field_as_brick},
+     .holds = ".vti pieces, one per MPI rank", .takes_mimages = true, .write = write_field_as_brick},
     {.name = "VTKHDF ImageData", .extensions = {"hdf", "vtkhdf"}, .kind = OutputKind::Volume,
-     .holds = "VTKHDF, ParaView 5.10+", .write = write_field_as_brick},
+     .holds = "VTKHDF, ParaView 5.10+", .takes_mimages = true, .write = write_field_as_brick},
 };
 
 /// How the usage text names a kind.

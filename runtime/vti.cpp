@@ -14,7 +14,7 @@
 namespace fortu {
 namespace {
 
-int component_count(const Grid& g) { return g.dims == 3 ? 5 : 4; }
+int component_count(const Grid& g) { return fv_component_count(g); }
 
 std::string header_text(const Grid& g, bool mimages, int first_slice = 0, int last_slice = -1) {
     const std::array<double, 3> o = volume_origin(g), s = volume_spacing(g);
@@ -29,7 +29,7 @@ std::string header_text(const Grid& g, bool mimages, int first_slice = 0, int la
         "        <DataArray type=\"Float64\" Name=\"value\" format=\"appended\" offset=\"0\"/>\n",
         extent, o[0], o[1], o[2], s[0], s[1], s[2]);
     if (mimages) {
-        const std::uint64_t block = 8 + 8 * std::uint64_t(g.points());
+        const std::uint64_t block = 8 + 8 * std::uint64_t(g.cols()) * g.rows() * (last_slice - first_slice + 1);
         for (int c = 0; c < component_count(g); ++c)
             text += fmt::format("        <DataArray type=\"Float64\" Name=\"n{}\" format=\"appended\" offset=\"{}\"/>\n",
                                 c + 1, block * (c + 1));
@@ -42,9 +42,9 @@ constexpr std::string_view kTrailer = "\n  </AppendedData>\n</VTKFile>\n";
 
 }  // namespace
 
-std::string vti_header(const Grid& grid) { return header_text(grid, false); }
-std::string vti_piece_header(const Grid& grid, int first_slice, int last_slice) {
-    return header_text(grid, false, first_slice, last_slice);
+std::string vti_header(const Grid& grid, bool mimages) { return header_text(grid, mimages); }
+std::string vti_piece_header(const Grid& grid, int first_slice, int last_slice, bool mimages) {
+    return header_text(grid, mimages, first_slice, last_slice);
 }
 std::string_view vti_trailer() { return kTrailer; }
 

@@ -15,14 +15,15 @@ namespace fortu {
 /// Writes the .vti (options.mimages: with the n components). Throws OutputError.
 void write_vti(const Field& field, const OutputTarget& target, const OutputOptions& options);
 
-/// The bytes before the value array of a .vti write_vti() writes for `grid` without
-/// M-images (the header, then the array's UInt64 length follows), and those after it: a
-/// bricked run (brick_output.hpp) writes the same file at offsets.
-std::string vti_header(const Grid& grid);
+/// The bytes before the value array of a .vti write_vti() writes for `grid` (the header,
+/// then the array's UInt64 length follows), and those after its last array: a bricked run
+/// (brick_output.hpp) writes the same file at offsets. With `mimages`, the arrays n1..
+/// (fv_component_count()) follow the value's, each after its own length.
+std::string vti_header(const Grid& grid, bool mimages = false);
 std::string_view vti_trailer();
 /// The header of a piece of that file holding slices first..last (the .pvti's pieces):
 /// its extent is the piece's, origin and spacing the whole grid's.
-std::string vti_piece_header(const Grid& grid, int first_slice, int last_slice);
+std::string vti_piece_header(const Grid& grid, int first_slice, int last_slice, bool mimages = false);
 
 /// The "value" array of a .vti that write_vti() wrote for `grid`, in fortu's image order, or
 /// nullopt when the file is not one (the golden comparator reads it back).

@@ -8,12 +8,14 @@
 #include "runtime/vtkhdf.hpp"
 
 #include "runtime/brick_files.hpp"
+#include "runtime/fv_model.hpp"
 #include "runtime/output_error.hpp"
 #include "runtime/volume_order.hpp"
 
 #include <array>
 #include <cstdint>
 #include <fcntl.h>
+#include <fmt/format.h>
 #include <mutex>
 #include <optional>
 #include <unistd.h>
@@ -75,8 +77,11 @@ public:
         } else {
             file_ = Id(H5Fopen(partial_.c_str(), H5F_ACC_RDWR, fapl.get()), H5Fclose);
             check(file_, "cannot reopen the unfinished file to resume");
-            dataset_ = Id(H5Dopen2(file_.get(), "/VTKHDF/PointData/value", H5P_DEFAULT), H5Dclose);
-            check(dataset_, "the unfinished file has no /VTKHDF/PointData/value");
+            for (const std::string& name : array_names()) {
+                const std::string path = "/VTKHDF/PointData/" + name;
+                datasets_.emplace_back(H5Dopen2(file_.get(), path.c_str(), H5P_DEFAULT), H5Dclose);
+                check(datasets_.back(), "the unfinished file has no " + path);
+            }
         }
         if (H5Fflush(file_.get(), H5F_SCOPE_GLOBAL) < 0) fail("cannot flush the file's structure");
         transfer_ = Id(H5Pcreate(H5P_DATASET_XFER), H5Pclose);
@@ -92,25 +97,12 @@ public:
         if (fd_ >= 0) ::close(fd_);
     }
 
-    void write(std::size_t, const BrickBox& box, const std::vector<double>& values) override {
-        const Grid& g = spec_.layout.grid;
-        const std::array<int, 3> e = box.extent();
+    void write(std::size_t, const BrickBox& box, const std::vector<double>& values,
+               std::span<const double> components) override {
         std::unique_lock lock = hold();
-        // One slice at a time, its rows in volume order (Y from the smallest).
-        staging_.resize(std::size_t(e[0]) * e[1]);
-        const hsize_t count[3] = {1, hsize_t(e[1]), hsize_t(e[0])};
-        const hsize_t points = hsize_t(e[0]) * e[1];
-        Id memory(H5Screate_simple(1, &points, nullptr), H5Sclose);
-        Id file_space(H5Dget_space(dataset_.get()), H5Sclose);
-        for (int s = box.lo[2]; s <= box.hi[2]; ++s) {
-            for (int r = box.hi[1], row = 0; r >= box.lo[1]; --r, ++row)
-                std::copy_n(values.data() + box.local(box.lo[0], r, s), e[0], staging_.data() + std::size_t(row) * e[0]);
-            const hsize_t start[3] = {hsize_t(s), hsize_t(g.rows() - 1 - box.hi[1]), hsize_t(box.lo[0])};
-            if (H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start, nullptr, count, nullptr) < 0 ||
-                H5Dwrite(dataset_.get(), H5T_NATIVE_DOUBLE, memory.get(), file_space.get(), transfer_.get(),
-                         staging_.data()) < 0)
-                fail("cannot write a brick's values");
-        }
+        write_array(box, datasets_[0], values.data());
+        for (std::size_t k = 1; k < datasets_.size(); ++k)
+            write_array(box, datasets_[k], components.data() + (k - 1) * box.points());
     }
 
     void sync() override {
@@ -120,8 +112,9 @@ public:
     void close() override {
         std::unique_lock lock = hold();
         transfer_.reset();
-        const bool ok = dataset_.reset() && file_.reset();   // collective under mpirun
-        if (!ok) fail("cannot close the file");
+        bool ok = true;
+        for (Id& dataset : datasets_) ok = dataset.reset() && ok;   // collective under mpirun
+        if (!(file_.reset() && ok)) fail("cannot close the file");
     }
 
     void finish(std::size_t) override {
@@ -130,6 +123,35 @@ public:
     }
 
 private:
+    /// The point data: the value, then with M-images the components n1...
+    std::vector<std::string> array_names() const {
+        std::vector<std::string> names{"value"};
+        if (spec_.mimages)
+            for (int k = 1; k <= fv_component_count(spec_.layout.grid); ++k) names.push_back(fmt::format("n{}", k));
+        return names;
+    }
+
+    /// One array's part of a brick (BrickBox::local order) to its hyperslabs; the lock held.
+    void write_array(const BrickBox& box, const Id& dataset, const double* values) {
+        const Grid& g = spec_.layout.grid;
+        const std::array<int, 3> e = box.extent();
+        // One slice at a time, its rows in volume order (Y from the smallest).
+        staging_.resize(std::size_t(e[0]) * e[1]);
+        const hsize_t count[3] = {1, hsize_t(e[1]), hsize_t(e[0])};
+        const hsize_t points = hsize_t(e[0]) * e[1];
+        Id memory(H5Screate_simple(1, &points, nullptr), H5Sclose);
+        Id file_space(H5Dget_space(dataset.get()), H5Sclose);
+        for (int s = box.lo[2]; s <= box.hi[2]; ++s) {
+            for (int r = box.hi[1], row = 0; r >= box.lo[1]; --r, ++row)
+                std::copy_n(values + box.local(box.lo[0], r, s), e[0], staging_.data() + std::size_t(row) * e[0]);
+            const hsize_t start[3] = {hsize_t(s), hsize_t(g.rows() - 1 - box.hi[1]), hsize_t(box.lo[0])};
+            if (H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start, nullptr, count, nullptr) < 0 ||
+                H5Dwrite(dataset.get(), H5T_NATIVE_DOUBLE, memory.get(), file_space.get(), transfer_.get(),
+                         staging_.data()) < 0)
+                fail("cannot write a brick's values");
+        }
+    }
+
     std::unique_lock<std::mutex> hold() { return std::unique_lock(spec_.mpi_mutex ? *spec_.mpi_mutex : mutex_); }
 
     [[noreturn]] void fail(const std::string& what) const { throw OutputError(spec_.path, "HDF5: " + what); }
@@ -174,15 +196,18 @@ private:
         H5Pset_alloc_time(create.get(), H5D_ALLOC_TIME_EARLY);   // all space now: writes touch no metadata
         H5Pset_fill_time(create.get(), H5D_FILL_TIME_NEVER);     // every value is written by a brick
         H5Pset_obj_track_times(create.get(), false);
-        dataset_ = Id(H5Dcreate2(point_data.get(), "value", H5T_IEEE_F64LE, space.get(), H5P_DEFAULT, create.get(),
-                                 H5P_DEFAULT),
-                      H5Dclose);
-        check(dataset_, "cannot create the dataset /VTKHDF/PointData/value");
+        for (const std::string& name : array_names()) {
+            datasets_.emplace_back(H5Dcreate2(point_data.get(), name.c_str(), H5T_IEEE_F64LE, space.get(), H5P_DEFAULT,
+                                              create.get(), H5P_DEFAULT),
+                                   H5Dclose);
+            check(datasets_.back(), "cannot create the dataset /VTKHDF/PointData/" + name);
+        }
     }
 
     BrickOutputSpec spec_;
     std::string partial_;
-    Id file_, dataset_, transfer_;
+    Id file_, transfer_;
+    std::vector<Id> datasets_;   ///< array_names(), in order
     int fd_ = -1;
     std::mutex mutex_;
     std::vector<double> staging_;

@@ -1,7 +1,7 @@
 // runtime/vtkhdf.hpp — a volume as a VTKHDF ImageData file (.hdf, .vtkhdf), which ParaView
 // 5.10+ and VTK's vtkHDFReader open: group /VTKHDF with the attributes Version, Type,
 // WholeExtent, Origin, Spacing and Direction, and the dataset /VTKHDF/PointData/value
-// (Float64, slices × rows × columns), written brick by brick.
+// (Float64, slices × rows × columns; with --mimages n1..n5 beside it), written brick by brick.
 //
 // Why parallel HDF5: under mpirun every rank writes its bricks' hyperslabs into the one
 // file (MPI-IO; the file's structure is made and closed collectively), so no rank gathers

@@ -128,7 +128,7 @@ TEST_CASE("a .pvti's pieces tile the slices, each with its neighbour's first pla
         for (int s = box.lo[2]; s <= box.hi[2]; ++s)
             for (int r = box.lo[1]; r <= box.hi[1]; ++r)
                 for (int c = box.lo[0]; c <= box.hi[0]; ++c) values[box.local(c, r, s)] = g.index(c, r, s);
-        out->write(b, box, values);
+        out->write(b, box, values, {});
     }
     out->sync();
     out->close();

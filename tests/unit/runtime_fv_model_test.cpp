@@ -5,6 +5,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <cstring>
 #include <functional>
 
 using namespace fortu;
@@ -225,4 +226,71 @@ TEST_CASE("fv_node's axis-aligned cross product is formula 1.1.3's plane (§1.2'
                 for (int k = 0; k < 5; ++k) worst = std::max(worst, std::abs(n[k] - expected[k]));
             }
     CHECK(worst < 1e-14);
+}
+
+namespace {
+
+/// Every component of every node of `own`, from FvStencil::box over `held`, equals FvModel's
+/// bit for bit (the same NaN included); returns the nodes that differ.
+std::size_t box_mismatches(const Field& field, const BrickBox& held, const BrickBox& own) {
+    const Grid& g = field.grid;
+    const FvModel whole(field);
+    const FvStencil stencil(g);
+    std::vector<double> values(held.points());
+    for (int s = held.lo[2]; s <= held.hi[2]; ++s)
+        for (int r = held.lo[1]; r <= held.hi[1]; ++r)
+            for (int c = held.lo[0]; c <= held.hi[0]; ++c) values[held.local(c, r, s)] = field.values[g.index(c, r, s)];
+    const int k = stencil.components();
+    std::vector<double> components(k * own.points());
+    double* out[5];
+    for (int j = 0; j < k; ++j) out[j] = components.data() + j * own.points();
+    stencil.box(values.data(), held, own, out);
+    std::size_t bad = 0;
+    for (int s = own.lo[2]; s <= own.hi[2]; ++s)
+        for (int r = own.lo[1]; r <= own.hi[1]; ++r)
+            for (int c = own.lo[0]; c <= own.hi[0]; ++c)
+                for (int j = 0; j < k; ++j) {
+                    const double expected = whole.n(j + 1, g.index(c, r, s)), got = out[j][own.local(c, r, s)];
+                    bad += std::memcmp(&expected, &got, sizeof got) != 0;
+                }
+    return bad;
+}
+
+BrickBox box_of(std::array<int, 3> lo, std::array<int, 3> hi) { return BrickBox{lo, hi}; }
+
+}  // namespace
+
+TEST_CASE("a brick's reach: one node more on each forward side (toward smaller rows), backward at the far ends") {
+    const Field f = sample3(9, [](double x, double y, double z) { return x * y - z; });   // 9 x 10 x 11 nodes
+    const FvStencil stencil(f.grid);
+    // Inside: +1 column, −1 row (e_y points to larger Y, the row above), +1 slice.
+    CHECK(stencil.reach(box_of({2, 3, 4}, {5, 6, 7})).lo == std::array<int, 3>{2, 2, 4});
+    CHECK(stencil.reach(box_of({2, 3, 4}, {5, 6, 7})).hi == std::array<int, 3>{6, 6, 8});
+    // At the grid's last column, top row and last slice the stencil reads backward: a brick
+    // reaching them needs nothing more, unless it is one node thick there.
+    CHECK(stencil.reach(box_of({4, 0, 6}, {8, 3, 10})).lo == std::array<int, 3>{4, 0, 6});
+    CHECK(stencil.reach(box_of({4, 0, 6}, {8, 3, 10})).hi == std::array<int, 3>{8, 3, 10});
+    CHECK(stencil.reach(box_of({8, 0, 10}, {8, 0, 10})).lo == std::array<int, 3>{7, 0, 9});
+    CHECK(stencil.reach(box_of({8, 0, 10}, {8, 0, 10})).hi == std::array<int, 3>{8, 1, 10});
+}
+
+TEST_CASE("FvStencil::box over any brick equals the whole field's components bit for bit (3D and 2D)") {
+    // Values with cancellation and an invalid point, so any other rounding would show.
+    Field f = sample3(9, [](double x, double y, double z) { return std::sin(3 * x) * std::exp(y) - z * z / 3 + 0.1; });
+    f.values[f.grid.index(4, 5, 6)] = std::nan("");
+    const FvStencil stencil(f.grid);
+    const BrickBox boxes[] = {box_of({0, 0, 0}, {8, 9, 10}), box_of({2, 3, 4}, {5, 6, 7}), box_of({0, 0, 0}, {3, 3, 3}),
+                              box_of({4, 0, 6}, {8, 3, 10}), box_of({8, 0, 10}, {8, 0, 10}),
+                              box_of({0, 9, 0}, {8, 9, 0}), box_of({3, 4, 5}, {5, 6, 7})};
+    for (const BrickBox& own : boxes) {
+        CAPTURE(own.lo);
+        CAPTURE(own.hi);
+        CHECK(box_mismatches(f, stencil.reach(own), own) == 0);
+        CHECK(box_mismatches(f, box_of({0, 0, 0}, {8, 9, 10}), own) == 0);   // a larger held box: the same
+    }
+    const Field flat = sample2(13, 7, {-1, 1}, {0, 2}, [](double x, double y) { return std::cos(x * y) - 0.5; });
+    const FvStencil plane(flat.grid);
+    CHECK(plane.components() == 4);
+    for (const BrickBox& own : {box_of({0, 0, 0}, {12, 6, 0}), box_of({5, 2, 0}, {12, 3, 0}), box_of({12, 0, 0}, {12, 0, 0})})
+        CHECK(box_mismatches(flat, plane.reach(own), own) == 0);
 }

@@ -303,7 +303,15 @@ TEST_CASE("M-images: .exr is the float EXR; other paths are refused with a reaso
     CHECK(mimages_path_problem("m.png") ==
           "M-images are n+2 pictures: put %d in the name (e.g. 'm_%d.png') or use .exr");
     CHECK(mimages_path_problem("m_%d.jpg") == "JPEG is lossy and would corrupt the M-image codes; use .png");
-    CHECK(mimages_path_problem("m_%d.csv") == "M-images need a .exr or .vti file or a picture series such as 'm_%d.png'");
+    CHECK(mimages_path_problem("m_%d.csv") ==
+          "M-images need a .exr, .vti, .pvti or .hdf file or a picture series such as 'm_%d.png'");
+    CHECK_FALSE(mimages_path_problem("m.pvti"));
+    CHECK_FALSE(mimages_path_problem("m.hdf"));
+    CHECK(mimages_path_problem("m.vdb") == "OpenVDB holds the value alone (narrow band, --band); M-images need a .exr, "
+                                           ".vti, .pvti or .hdf file or a picture series such as 'm_%d.png'");
+    CHECK(mimages_path_problem("m.nrrd") ==
+          "NRRD holds the value alone; M-images need a .exr, .vti, .pvti or .hdf file or a picture series such as "
+          "'m_%d.png'");
     CHECK_THROWS_WITH_AS(write_mimages(f, dir / "m.png"),
                          ("cannot write '" + (dir / "m.png") +
                           "': M-images are n+2 pictures: put %d in the name (e.g. 'm_%d.png') or use .exr")

@@ -11,110 +11,23 @@ Without MPIRUN only the single-process checks run.
 """
 import os
 import re
-import signal
-import subprocess
 import sys
-import time
 
 import numpy as np
 
-FORTU, SHARED, SOURCE, WORK = sys.argv[1:5]
-MPIRUN = sys.argv[5] if len(sys.argv) > 5 else None
-os.makedirs(WORK, exist_ok=True)
-FAILURES = []
+import brick_files
+from brick_files import FAILURES, check, read_any, read_pvti, read_vti, read_vtkhdf, vdb_bytes
+
+FORTU, SHARED, SOURCE, WORK, MPIRUN = brick_files.setup(sys.argv)
 ARRAYS = ["value", "n1", "n2", "n3", "n4", "n5"]
 
 
-def check(condition, what):
-    print(("ok   " if condition else "FAIL ") + what, flush=True)
-    if not condition:
-        FAILURES.append(what)
-
-
-# Open MPI's own allocations are reported by LeakSanitizer at exit (see bricks_test.py).
-MPI_ENV = dict(os.environ, ASAN_OPTIONS=(os.environ.get("ASAN_OPTIONS", "") + ":detect_leaks=0").lstrip(":"))
-
-
 def run(args, expect=0, mpi=0):
-    cmd = ([MPIRUN, "--oversubscribe", "-np", str(mpi)] if mpi else []) + [FORTU, "run"] + args
-    p = subprocess.run(cmd, capture_output=True, text=True, env=MPI_ENV if mpi else None)
-    if p.returncode != expect:
-        print("command:", " ".join(cmd), "\nexit", p.returncode, "\n", p.stdout, p.stderr)
-    check(p.returncode == expect, f"exit {expect}: {' '.join(cmd[-8:])}")
-    return p
-
-
-def read_vti(path):
-    """Every appended array of a .vti by name, each (slices, rows, cols), checked against the
-    header's offsets: the arrays follow one another, each after its UInt64 byte count."""
-    data = open(path, "rb").read()
-    head = data[: data.index(b"<AppendedData")].decode()
-    extent = [int(v) for v in re.search(r'<Piece Extent="([^"]+)"', head).group(1).split()]
-    shape = (extent[5] - extent[4] + 1, extent[3] - extent[2] + 1, extent[1] - extent[0] + 1)
-    start = data.index(b"_", data.index(b"<AppendedData")) + 1
-    arrays = {}
-    at = 0
-    for name, offset in re.findall(r'<DataArray type="Float64" Name="([^"]+)" format="appended" offset="(\d+)"/>',
-                                   head):
-        assert int(offset) == at, (name, offset, at)
-        size = int(np.frombuffer(data[start + at:start + at + 8], dtype="<u8")[0])
-        assert size == 8 * shape[0] * shape[1] * shape[2], (name, size, shape)
-        arrays[name] = np.frombuffer(data[start + at + 8:start + at + 8 + size], dtype="<f8").reshape(shape)
-        at += 8 + size
-    assert data[start + at:] == b"\n  </AppendedData>\n</VTKFile>\n", data[start + at:][:40]
-    return arrays
-
-
-def read_pvti(path):
-    """The arrays of a .pvti's pieces put together; the pieces tile Z with one shared plane,
-    equal in both, and the index names every array."""
-    text = open(path).read()
-    whole = [int(v) for v in re.search(r'<PImageData WholeExtent="([^"]+)"', text).group(1).split()]
-    names = re.findall(r'<PDataArray type="Float64" Name="([^"]+)"/>', text)
-    shape = (whole[5] + 1, whole[3] + 1, whole[1] + 1)
-    volumes = {name: np.full(shape, np.nan) for name in names}
-    pieces = re.findall(r'<Piece Extent="([^"]+)" Source="([^"]+)"/>', text)
-    expected_first = 0
-    for extent, source in pieces:
-        e = [int(v) for v in extent.split()]
-        assert e[4] == expected_first, (e, expected_first)
-        arrays = read_vti(os.path.join(os.path.dirname(path), source))
-        assert sorted(arrays) == sorted(names), (list(arrays), names)
-        for name in names:
-            if e[4] > 0:
-                assert np.array_equal(volumes[name][e[4]].view("<u8"), arrays[name][0].view("<u8")), name
-            volumes[name][e[4]:e[5] + 1] = arrays[name]
-        expected_first = e[5]
-    assert expected_first == whole[5]
-    return volumes, len(pieces)
-
-
-def read_vtkhdf(path):
-    import h5py
-    with h5py.File(path, "r") as f:
-        g = f["VTKHDF"]
-        assert g.attrs["Type"] in (b"ImageData", "ImageData")
-        return {name: g["PointData"][name][()] for name in g["PointData"]}
-
-
-def read_any(path):
-    if path.endswith(".pvti"):
-        return read_pvti(path)[0]
-    if path.endswith(".hdf"):
-        return read_vtkhdf(path)
-    return read_vti(path)
+    return brick_files.run(FORTU, args, expect, mpi, shown=8)
 
 
 def same_arrays(ref, got, names=ARRAYS):
-    """Bit for bit (a NaN equals the same NaN)."""
-    return sorted(got) == sorted(names) and all(
-        ref[n].shape == got[n].shape and np.array_equal(ref[n].view("<u8"), got[n].view("<u8")) for n in names)
-
-
-def vdb_bytes(path):
-    """A .vdb's bytes but its archive UUID (the same tree encodes to the same bytes)."""
-    uuid = rb"[0-9a-f]{8}-[0-9a-f]{4}-[0-9a-f]{4}-[0-9a-f]{4}-[0-9a-f]{12}"
-    return re.sub(uuid, b"UUID", open(path, "rb").read(), count=1)
+    return brick_files.same_arrays(ref, got, names)
 
 
 def out(name):
@@ -161,8 +74,8 @@ for name, model in MODELS:
     check(same_arrays(REF[name], read_vti(got_m)), f"{name}: --mimages .vti in cubes of 16³ equals the in-memory one")
     got_o = out(f"{name}_both.hdf")
     run([model, "--size", str(SIZE), "--brick", "8", "-o", got_o, "--mimages", out(f"{name}_both_m.hdf")])
-    check(same_arrays(REF[name], read_vtkhdf(got_o), ["value"]) and
-          same_arrays(REF[name], read_vtkhdf(out(f"{name}_both_m.hdf"))),
+    check(same_arrays(REF[name], read_vtkhdf(got_o)[0], ["value"]) and
+          same_arrays(REF[name], read_vtkhdf(out(f"{name}_both_m.hdf"))[0]),
           f"{name}: -o .hdf holds the value, --mimages .hdf the value and n1..n5")
 
 # The grid's far sides: bricks one node thick at the last slice and the top row take their
@@ -170,7 +83,7 @@ for name, model in MODELS:
 for size in (9, 17):
     run([MODELS[0][1], "--size", str(size), "--mimages", out(f"thin_mem_{size}.vti")])
     run([MODELS[0][1], "--size", str(size), "--memory", "1G", "--brick", "8", "--mimages", out(f"thin_{size}.hdf")])
-    check(same_arrays(read_vti(out(f"thin_mem_{size}.vti")), read_vtkhdf(out(f"thin_{size}.hdf"))),
+    check(same_arrays(read_vti(out(f"thin_mem_{size}.vti")), read_vtkhdf(out(f"thin_{size}.hdf"))[0]),
           f"sphere {size}³ in bricks of 8: the last layer's components equal the in-memory ones")
 
 # 2D: --mimages to .hdf and .pvti hold the same arrays as the .vti (n1..n4).
@@ -209,7 +122,7 @@ if MPIRUN:
                 check(read_pvti(got)[1] == 4, f"{name}: the M-images .pvti has one piece per rank")
         got_o, got_m = out(f"{name}_mpi_both.hdf"), out(f"{name}_mpi_both_m.pvti")
         run([model, "--size", str(SIZE), "--brick", "16", "--threads", "2", "-o", got_o, "--mimages", got_m], mpi=4)
-        check(same_arrays(REF[name], read_vtkhdf(got_o), ["value"]) and same_arrays(REF[name], read_pvti(got_m)[0]),
+        check(same_arrays(REF[name], read_vtkhdf(got_o)[0], ["value"]) and same_arrays(REF[name], read_pvti(got_m)[0]),
               f"{name}: 4 ranks' -o .hdf beside --mimages .pvti equal the in-memory files")
 
     # Resume: SIGKILL one rank mid-run, then --resume on one process computes only the
@@ -219,26 +132,10 @@ if MPIRUN:
     ref = read_vti(out("resume_ref_m.vti"))
     for ext in ("vti", "hdf"):
         target = out(f"resume_m.{ext}")
-        for stale in (target, target + ".done"):
-            if os.path.exists(stale):
-                os.remove(stale)
-        job = subprocess.Popen([MPIRUN, "--oversubscribe", "-np", "4", FORTU, "run", model, "--size", str(size),
-                                "--brick", "8", "--threads", "1", "--mimages", target],
-                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=MPI_ENV)
+        status = brick_files.kill_one_rank(FORTU, [model, "--size", str(size), "--brick", "8", "--threads", "1",
+                                                   "--mimages", target], target, f"--mimages .{ext}")
         done_map = target + ".done"
-        deadline = time.time() + 120
-        while time.time() < deadline:
-            if os.path.exists(done_map) and len(open(done_map).read().splitlines()) > 1 + 20:
-                break
-            time.sleep(0.005)
-        ranks = subprocess.run(["ps", "-o", "pid=,args=", "--ppid", str(job.pid)], capture_output=True,
-                               text=True).stdout.split("\n")
-        pids = [int(line.split()[0]) for line in ranks if FORTU in line]
-        check(len(pids) == 4, f"--mimages .{ext}: 4 ranks found under mpirun ({len(pids)})")
-        if pids:
-            os.kill(pids[1], signal.SIGKILL)
-        job.wait(timeout=120)
-        check(job.returncode != 0 and not os.path.exists(target), f"--mimages .{ext}: the job ended with the kill")
+        check(status != 0 and not os.path.exists(target), f"--mimages .{ext}: the job ended with the kill")
         lines = open(done_map).read().splitlines()
         check(f"; mimages .{ext}" in lines[0], f"--mimages .{ext}: the done map's key names the M-images file")
         before = len(set(lines[1:]))

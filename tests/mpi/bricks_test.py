@@ -10,120 +10,33 @@ Without MPIRUN only the single-process checks run.
 """
 import os
 import re
-import signal
-import subprocess
 import sys
-import time
 
 import numpy as np
 
-FORTU, SHARED, SOURCE, WORK = sys.argv[1:5]
-MPIRUN = sys.argv[5] if len(sys.argv) > 5 else None
-os.makedirs(WORK, exist_ok=True)
-FAILURES = []
+import brick_files
+from brick_files import (FAILURES, check, read_pvti, read_vti, read_vtkhdf, same_values, vdb_bytes,
+                         vti_origin_spacing)
 
-
-def check(condition, what):
-    print(("ok   " if condition else "FAIL ") + what, flush=True)
-    if not condition:
-        FAILURES.append(what)
-
-
-# Under AddressSanitizer, LeakSanitizer reports Open MPI's own allocations at exit (libmpi and
-# its dlopened components, unmatchable by a suppression once unloaded): ranks under mpirun run
-# without leak detection; every single-process run here and in the other suites keeps it.
-MPI_ENV = dict(os.environ, ASAN_OPTIONS=(os.environ.get("ASAN_OPTIONS", "") + ":detect_leaks=0").lstrip(":"))
+FORTU, SHARED, SOURCE, WORK, MPIRUN = brick_files.setup(sys.argv)
 
 
 def run(args, expect=0, mpi=0):
-    cmd = ([MPIRUN, "--oversubscribe", "-np", str(mpi)] if mpi else []) + [FORTU, "run"] + args
-    p = subprocess.run(cmd, capture_output=True, text=True, env=MPI_ENV if mpi else None)
-    if p.returncode != expect:
-        print("command:", " ".join(cmd), "\nexit", p.returncode, "\n", p.stdout, p.stderr)
-    check(p.returncode == expect, f"exit {expect}: {' '.join(cmd[-6:])}")
-    return p
-
-
-def read_vti(path):
-    data = open(path, "rb").read()
-    head = data[: data.index(b"<AppendedData")].decode()
-    extent = [int(v) for v in re.search(r'WholeExtent="([^"]+)"', head).group(1).split()]
-    nx, ny, nz = extent[1] - extent[0] + 1, extent[3] - extent[2] + 1, extent[5] - extent[4] + 1
-    start = data.index(b"_", data.index(b"<AppendedData")) + 1
-    size = int(np.frombuffer(data[start:start + 8], dtype="<u8")[0])
-    assert size == 8 * nx * ny * nz, (size, nx, ny, nz)
-    values = np.frombuffer(data[start + 8:start + 8 + size], dtype="<f8").reshape(nz, ny, nx)
-    assert data[start + 8 + size:].startswith(b"\n  </AppendedData>")
-    return values
+    return brick_files.run(FORTU, args, expect, mpi)
 
 
 def same_vti(a, b):
-    va, vb = read_vti(a), read_vti(b)
-    return va.shape == vb.shape and np.array_equal(va.view("<u8"), vb.view("<u8"))
-
-
-def read_pvti(path):
-    """The whole volume from a .pvti and its pieces; checks that the pieces tile the extent
-    along Z with one shared plane between neighbours and agree on it."""
-    text = open(path).read()
-    whole = [int(v) for v in re.search(r'<PImageData WholeExtent="([^"]+)"', text).group(1).split()]
-    origin = re.search(r'<PImageData[^>]* Origin="([^"]+)"', text).group(1)
-    pieces = re.findall(r'<Piece Extent="([^"]+)" Source="([^"]+)"/>', text)
-    nx, ny, nz = whole[1] + 1, whole[3] + 1, whole[5] + 1
-    volume = np.full((nz, ny, nx), np.nan)
-    expected_first = 0
-    for extent, source in pieces:
-        e = [int(v) for v in extent.split()]
-        assert e[:4] == whole[:4] and e[4] == expected_first, (e, expected_first)
-        piece_path = os.path.join(os.path.dirname(path), source)
-        head = open(piece_path, "rb").read(600).decode(errors="replace")
-        assert f'WholeExtent="{extent}"' in head and f'Origin="{origin}"' in head, head
-        values = read_vti(piece_path)
-        assert values.shape == (e[5] - e[4] + 1, ny, nx), values.shape
-        if e[4] > 0:   # the shared plane, written twice, equal
-            assert np.array_equal(volume[e[4]].view("<u8"), values[0].view("<u8"))
-        volume[e[4]:e[5] + 1] = values
-        expected_first = e[5]
-    assert expected_first == whole[5], (expected_first, whole)
-    return volume, len(pieces)
-
-
-def read_vtkhdf(path):
-    import h5py
-    with h5py.File(path, "r") as f:
-        g = f["VTKHDF"]
-        assert list(g.attrs["Version"]) == [1, 0] and g.attrs["Type"] in (b"ImageData", "ImageData")
-        values = g["PointData"]["value"][()]
-        extent = list(g.attrs["WholeExtent"])
-        assert extent == [0, values.shape[2] - 1, 0, values.shape[1] - 1, 0, values.shape[0] - 1], extent
-        assert list(g.attrs["Direction"]) == [1, 0, 0, 0, 1, 0, 0, 0, 1]
-        return values, list(g.attrs["Origin"]), list(g.attrs["Spacing"])
-
-
-def vti_origin_spacing(path):
-    head = open(path, "rb").read(600).decode(errors="replace")
-    origin = [float(v) for v in re.search(r' Origin="([^"]+)"', head).group(1).split()]
-    spacing = [float(v) for v in re.search(r' Spacing="([^"]+)"', head).group(1).split()]
-    return origin, spacing
-
-
-def same_values(a, b):
-    return a.shape == b.shape and np.array_equal(a.view("<u8"), b.view("<u8"))
+    return same_values(read_vti(a)["value"], read_vti(b)["value"])
 
 
 def same_as_vti(ref, got):
     """A .vti, .pvti or .hdf equals the reference .vti value for value."""
     if got.endswith(".pvti"):
-        return same_values(read_vti(ref), read_pvti(got)[0])
+        return same_values(read_vti(ref)["value"], read_pvti(got)[0]["value"])
     if got.endswith(".hdf"):
-        values, origin, spacing = read_vtkhdf(got)
-        return same_values(read_vti(ref), values) and (origin, spacing) == vti_origin_spacing(ref)
+        arrays, origin, spacing = read_vtkhdf(got)
+        return same_values(read_vti(ref)["value"], arrays["value"]) and (origin, spacing) == vti_origin_spacing(ref)
     return same_vti(ref, got)
-
-
-def vdb_bytes(path):
-    uuid = rb"[0-9a-f]{8}-[0-9a-f]{4}-[0-9a-f]{4}-[0-9a-f]{4}-[0-9a-f]{12}"
-    return re.sub(uuid, b"UUID", open(path, "rb").read(), count=1)
 
 
 MODELS = [
@@ -186,8 +99,8 @@ run([disc, "--size", "17", "-o", out("disc2d.npy")])
 run([disc, "--size", "17", "-o", out("disc2d.hdf")])
 run([disc, "--size", "17", "-o", out("disc2d.pvti")])
 flat = np.load(out("disc2d.npy"))[::-1]   # image rows from the top; volume rows from the bottom
-check(same_values(flat, read_vtkhdf(out("disc2d.hdf"))[0][0]), "2D .hdf equals the .npy")
-check(same_values(flat, read_pvti(out("disc2d.pvti"))[0][0]), "2D .pvti equals the .npy")
+check(same_values(flat, read_vtkhdf(out("disc2d.hdf"))[0]["value"][0]), "2D .hdf equals the .npy")
+check(same_values(flat, read_pvti(out("disc2d.pvti"))[0]["value"][0]), "2D .pvti equals the .npy")
 
 if MPIRUN:
     # The sweep's runs shared out over 3 ranks: the same files.
@@ -224,26 +137,10 @@ if MPIRUN:
         if ext != "hdf":   # the .hdf compares with the .vti made just before
             run([model, "--size", str(size), "-o", ref])
         target = out(f"resume.{ext}")
-        for stale in (target, target + ".done"):
-            if os.path.exists(stale):
-                os.remove(stale)
-        job = subprocess.Popen([MPIRUN, "--oversubscribe", "-np", "4", FORTU, "run", model, "--size", str(size),
-                                "--brick", "8", "--threads", "1", "-o", target],
-                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=MPI_ENV)
+        status = brick_files.kill_one_rank(FORTU, [model, "--size", str(size), "--brick", "8", "--threads", "1",
+                                                   "-o", target], target, f".{ext}")
         done_map = target + ".done"
-        deadline = time.time() + 120
-        while time.time() < deadline:
-            if os.path.exists(done_map) and len(open(done_map).read().splitlines()) > 1 + 20:
-                break
-            time.sleep(0.005)
-        ranks = subprocess.run(["ps", "-o", "pid=,args=", "--ppid", str(job.pid)], capture_output=True,
-                               text=True).stdout.split("\n")
-        pids = [int(line.split()[0]) for line in ranks if FORTU in line]
-        check(len(pids) == 4, f".{ext}: 4 ranks found under mpirun ({len(pids)})")
-        if pids:
-            os.kill(pids[1], signal.SIGKILL)
-        job.wait(timeout=120)
-        check(job.returncode != 0, f".{ext}: the job ended with the killed rank (exit {job.returncode})")
+        check(status != 0, f".{ext}: the job ended with the killed rank (exit {status})")
         check(not os.path.exists(target), f".{ext}: no output after the kill")
         before = len(set(open(done_map).read().splitlines()[1:]))
         # .vdb: 161 nodes in cubes of 8³; .vti, .hdf: 97 in whole rows, 97 x 2 x 2 (about 8³ nodes)

@@ -18,16 +18,6 @@ using namespace fortu;
 
 namespace {
 
-std::optional<Model> load(const std::filesystem::path& path) {
-    std::string error;
-    auto source = SourceFile::load(path.string(), error);
-    if (!source) return std::nullopt;
-    DiagnosticSink sink;
-    CompileOptions options;
-    options.include_dirs = {std::string(FORTU_SOURCE_DIR) + "/stdlib"};
-    return is_vm_path(path.string()) ? import_vm(source, sink) : compile(source, options, sink);
-}
-
 /// Points where the bricked values differ from the voxel engine's in their bits; also
 /// counts through `skipped` the points a band of `band` skipped, and checks they are beyond it.
 std::size_t brick_mismatches(const Model& model, const Grid& grid, int edge, std::optional<double> band = std::nullopt,
@@ -95,7 +85,7 @@ TEST_CASE("bricked values equal the voxel engine bit for bit on every 3D model w
     int checked = 0;
     for (const auto& path : files) {
         CAPTURE(path.string());
-        std::optional<Model> model = load(path);
+        std::optional<Model> model = test::load_model_file(path);
         if (!model || model->dims() != 3) continue;
         const Grid grid = model_grid(*model, {29, 23, 19});   // bricks of 8 and 16: ragged last ones
         CHECK(brick_mismatches(*model, grid, 8) == 0);

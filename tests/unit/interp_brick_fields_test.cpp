@@ -15,16 +15,6 @@ using namespace fortu;
 
 namespace {
 
-std::optional<Model> load(const std::filesystem::path& path) {
-    std::string error;
-    auto source = SourceFile::load(path.string(), error);
-    if (!source) return std::nullopt;
-    DiagnosticSink sink;
-    CompileOptions options;
-    options.include_dirs = {std::string(FORTU_SOURCE_DIR) + "/stdlib"};
-    return is_vm_path(path.string()) ? import_vm(source, sink) : compile(source, options, sink);
-}
-
 /// Nodes (times components) where bricks of `layout` disagree with the whole field's
 /// values or FV model in their bits.
 std::size_t mismatches(const Model& model, const BrickLayout& layout) {
@@ -58,7 +48,7 @@ TEST_CASE("bricks with their overlap give the in-memory field's components bit f
          {std::filesystem::path(FORTU_SOURCE_DIR) / "examples" / "floz3_sphere80.fortu", shared / "data" / "bear.vm",
           shared / "data" / "ranok-scripts" / "Tor.fortu"}) {
         CAPTURE(path.string());
-        const std::optional<Model> model = load(path);
+        const std::optional<Model> model = test::load_model_file(path);
         REQUIRE(model);
         const Grid grid = model_grid(*model, {29, 23, 19});
         CHECK(mismatches(*model, BrickLayout(grid, 8)) == 0);                  // cubes, ragged last ones

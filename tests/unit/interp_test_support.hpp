@@ -1,10 +1,12 @@
-// tests/unit/interp_test_support.hpp — compiling model text in tests.
+// tests/unit/interp_test_support.hpp — compiling model text and model files in tests.
 #pragma once
 
 #include "grammar/diagnostic.hpp"
 #include "interp/engine.hpp"
 #include "interp/lower.hpp"
+#include "interp/vm_import.hpp"
 
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
@@ -23,6 +25,18 @@ inline Compiled compile_text(const std::string& text, const CompileOptions& opti
     c.source = std::make_shared<SourceFile>(path, text);
     c.model = compile(c.source, options, c.sink);
     return c;
+}
+
+/// A .fortu script (with the shipped stdlib) or a .vm model from a file; nullopt when it
+/// cannot be read or compiled.
+inline std::optional<Model> load_model_file(const std::filesystem::path& path) {
+    std::string error;
+    auto source = SourceFile::load(path.string(), error);
+    if (!source) return std::nullopt;
+    DiagnosticSink sink;
+    CompileOptions options;
+    options.include_dirs = {std::string(FORTU_SOURCE_DIR) + "/stdlib"};
+    return is_vm_path(path.string()) ? import_vm(source, sink) : compile(source, options, sink);
 }
 
 /// The value of a model at a point with the given engine (the model must compile).

@@ -169,7 +169,7 @@ int run_sweep(const CliOptions& o, const std::function<int(const CliOptions&)>& 
         return first;
     }
     // Then the rest side by side, as many as there are threads and as half the free memory
-    // holds: a run's serial parts (compiling, encoding, the write's fsync) overlap instead of
+    // holds: a run's serial parts (compiling, drawing and encoding a picture) overlap instead of
     // leaving cores idle. Bricked runs bound their memory and use every thread already.
     std::size_t side_by_side = runs_bricked(o) ? 1 : std::min<std::size_t>(resolve_threads(o.threads), points - 1);
     if (const std::size_t available = available_memory(); available > 0 && side_by_side > 1)

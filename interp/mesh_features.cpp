@@ -335,11 +335,14 @@ bool segment_through_triangle(const Vec& p, const Vec& q, const Vec& a, const Ve
 }
 
 /// A point where an R-operation's edge curve crosses a face between two cells: a vertex of
-/// the mesh, shared by the two cells' patches.
+/// the mesh, shared by the two cells' patches. On a grid edge or a grid node (a solid's edge
+/// on the lattice) it lies on several faces; it goes into one segment of the cells' patch
+/// boundaries, chosen once for all cells, so the two cells of that segment's face take it.
 struct Crossing {
     uint32_t vertex;   ///< its index among the positions
     int operation;
-    uint64_t face;     ///< the lower cell·3 + the face's axis
+    uint64_t face;     ///< where it goes: the lower cell·3 + the face's axis (set by choose_segments)
+    std::pair<uint32_t, uint32_t> segment{UINT32_MAX, UINT32_MAX};  ///< the patch boundary segment it goes into
     bool alive = true;
 };
 
@@ -379,6 +382,99 @@ public:
         return cell;
     }
 
+    /// Which cells have triangles (a patch): edges lying on the lattice may be joined only in
+    /// cells whose neighbours across that face or grid edge have none.
+    void set_patch_test(std::function<bool(uint64_t)> has_patch) { has_patch_ = std::move(has_patch); }
+
+    // ---- The lattice: points on grid planes (features on grid edges and nodes) --------------
+
+    double lattice_h() const { return std::max({step_[0], step_[1], step_[2]}); }
+
+    /// The grid plane index p[a] lies on within 1e-9 of a cell, or -1.
+    long plane_of(const Vec& p, int a) const {
+        const double k = std::round((p[a] - min_[a]) / step_[a]);
+        if (k < 0 || k > cells_[a]) return -1;
+        return std::fabs(min_[a] + k * step_[a] - p[a]) <= 1e-9 * lattice_h() ? long(k) : -1;
+    }
+
+    /// p with the coordinates that lie on a grid plane to round-off put exactly on it, so a
+    /// feature on a grid edge or node is shared exactly by the cells around it.
+    Vec snapped(Vec p) const {
+        for (int a = 0; a < 3; ++a) {
+            const long k = plane_of(p, a);
+            if (k >= 0) p[a] = min_[a] + double(k) * step_[a];
+        }
+        return p;
+    }
+
+    /// Per axis, the cell indices whose closed extent holds p[a] (two on an inner grid plane).
+    std::array<std::vector<uint64_t>, 3> cell_ranges(const Vec& p) const {
+        std::array<std::vector<uint64_t>, 3> r;
+        for (int a = 0; a < 3; ++a) {
+            const long k = plane_of(p, a);
+            if (k >= 0) {
+                if (k > 0) r[a].push_back(uint64_t(k - 1));
+                if (k < cells_[a]) r[a].push_back(uint64_t(k));
+            } else {
+                const double f = std::floor((p[a] - min_[a]) / step_[a]);
+                if (f >= 0 && f < cells_[a]) r[a].push_back(uint64_t(f));
+            }
+        }
+        return r;
+    }
+
+    /// The cells whose closed box holds p: one, or up to eight around a grid node.
+    std::vector<uint64_t> cells_around(const Vec& p) const {
+        const auto r = cell_ranges(p);
+        std::vector<uint64_t> out;
+        for (uint64_t z : r[2])
+            for (uint64_t y : r[1])
+                for (uint64_t x : r[0]) out.push_back(x + stride(1) * y + stride(2) * z);
+        return out;
+    }
+
+    /// The inner faces (lower cell·3 + axis) that hold p: one inside a face, up to twelve at a node.
+    std::vector<uint64_t> faces_around(const Vec& p) const {
+        const auto r = cell_ranges(p);
+        std::vector<uint64_t> out;
+        for (int a = 0; a < 3; ++a) {
+            if (r[a].size() != 2) continue;
+            const int b = (a + 1) % 3, c = (a + 2) % 3;
+            for (uint64_t i : r[b])
+                for (uint64_t j : r[c]) out.push_back((r[a][0] * stride(a) + i * stride(b) + j * stride(c)) * 3 + uint64_t(a));
+        }
+        return out;
+    }
+
+    /// Whether a new mesh edge of cell `id` lying on its faces `faces` (bits axis·2 + side)
+    /// is free: no other cell that holds that face or grid edge has triangles there.
+    bool boundary_edge_free(uint64_t id, int faces) const {
+        const auto c = coords(id);
+        std::vector<std::array<int, 3>> offsets{{0, 0, 0}};
+        for (int a = 0; a < 3; ++a)
+            for (int side = 0; side < 2; ++side) {
+                if (!(faces >> (2 * a + side) & 1)) continue;
+                const std::size_t n = offsets.size();
+                for (std::size_t i = 0; i < n; ++i) {
+                    auto o = offsets[i];
+                    o[a] = side ? 1 : -1;
+                    offsets.push_back(o);
+                }
+            }
+        for (const auto& o : offsets) {
+            if (o == std::array<int, 3>{0, 0, 0}) continue;
+            uint64_t other = 0;
+            bool inside = true;
+            for (int a = 0; a < 3; ++a) {
+                const long k = long(c[a]) + o[a];
+                if (k < 0 || k >= cells_[a]) inside = false;
+                else other += uint64_t(k) * stride(a);
+            }
+            if (inside && has_patch_ && has_patch_(other)) return false;
+        }
+        return true;
+    }
+
     /// Phase 1, per cell with triangles: a cell whose normals disagree seeds the traces of the
     /// edge curves through it, and may hold a corner.
     void seed(uint64_t id, const std::vector<uint32_t>& patch, FeatureStats& stats) {
@@ -409,9 +505,10 @@ public:
                 if (!solve_feature(field_, {ops[k].a, ops[k].b}, 2, p, cell.h, 2 * cell.h)) break;
                 inside = cell.contains(p, 0);
             }
+            p = snapped(p);
             if (!inside || !on_boundary(p, k, cell.h)) continue;
             const int plus = walk(k, id, p, 1), minus = walk(k, id, p, -1);
-            if (plus >= 0 && minus >= 0 && plus != minus) add_link(id, plus, minus);
+            if (plus >= 0 && minus >= 0 && plus != minus) add_link(plus, minus);
         }
     }
 
@@ -420,10 +517,12 @@ public:
     void build(const std::function<std::optional<std::vector<uint32_t>>(uint64_t)>& patch_of, FeatureStats& stats) {
         for (uint64_t id : corner_cells_) find_corner(id);
         for (uint64_t id : end_cells_) find_corner(id);
+        choose_segments(patch_of);
         std::vector<uint64_t> queue;
         for (const auto& [id, apex] : apex_) queue.push_back(id);
         for (const Crossing& c : crossings_)
-            for (uint64_t id : cells_of_face(c.face)) queue.push_back(id);
+            if (c.alive)
+                for (uint64_t id : cells_of_face(c.face)) queue.push_back(id);
         std::sort(queue.begin(), queue.end());
         queue.erase(std::unique(queue.begin(), queue.end()), queue.end());
         std::set<uint64_t> pending(queue.begin(), queue.end());
@@ -453,7 +552,10 @@ public:
             for (const Tri& t : result.second)
                 for (uint32_t v : t) used.insert(v);
         for (const Crossing& c : crossings_) stats.edge_vertices += c.alive && used.count(c.vertex);
-        for (const auto& [id, apex] : apex_) stats.corner_vertices += used.count(apex) > 0;
+        std::set<uint32_t> corners;
+        for (const auto& [id, apex] : apex_)
+            if (used.count(apex)) corners.insert(apex);
+        stats.corner_vertices = corners.size();
         stats.chain_edges = chain_edges_;
     }
 
@@ -541,7 +643,7 @@ private:
                 const auto it = face_crossings_.find(face);
                 if (it == face_crossings_.end()) continue;
                 for (int x : it->second)
-                    if (crossings_[x].alive) out.push_back(x);
+                    if (crossings_[x].alive && crossings_[x].face == face) out.push_back(x);
             }
         return out;
     }
@@ -560,23 +662,37 @@ private:
         return {n[0] / l, n[1] / l, n[2] / l};
     }
 
-    /// The crossing of operation k's edge on `face` at q: an existing one there, or a new one.
-    std::pair<int, bool> crossing_at(uint64_t face, int k, const Vec& q, double h) {
-        auto& list = face_crossings_[face];
-        for (int x : list)
-            if (crossings_[x].operation == k && norm(sub(positions_[crossings_[x].vertex], q)) <= 1e-6 * h) return {x, true};
+    /// The crossing of operation k's edge at q (on a face): an existing one there, or a new one
+    /// on every face that holds q.
+    std::pair<int, bool> crossing_at(int k, const Vec& q, double h) {
+        const std::vector<uint64_t> faces = faces_around(q);
+        for (uint64_t face : faces) {
+            const auto it = face_crossings_.find(face);
+            if (it == face_crossings_.end()) continue;
+            for (int x : it->second)
+                if (crossings_[x].operation == k && norm(sub(positions_[crossings_[x].vertex], q)) <= 1e-6 * h)
+                    return {x, true};
+        }
         const auto& op = field_.operations()[k];
-        crossings_.push_back({uint32_t(positions_.size()), k, face, true});
+        crossings_.push_back({uint32_t(positions_.size()), k, faces.empty() ? 0 : faces[0]});
         positions_.push_back(q);
         normals_.push_back(edge_normal(q, {op.a, op.b}));
-        list.push_back(int(crossings_.size() - 1));
+        for (uint64_t face : faces) face_crossings_[face].push_back(int(crossings_.size() - 1));
         return {int(crossings_.size() - 1), false};
     }
 
-    void add_link(uint64_t cell, int a, int b) {
-        auto& list = links_[cell];
+    /// Joins crossings a and b in the cells that hold both (the one the curve passed, or, for
+    /// a piece along a grid edge, the cells around it that have triangles).
+    void add_link(int a, int b) {
         const std::pair<int, int> link{std::min(a, b), std::max(a, b)};
-        if (std::find(list.begin(), list.end(), link) == list.end()) list.push_back(link);
+        std::vector<uint64_t> near = cells_around(positions_[crossings_[a].vertex]);
+        const std::vector<uint64_t> other = cells_around(positions_[crossings_[b].vertex]);
+        for (uint64_t cell : near) {
+            if (std::find(other.begin(), other.end(), cell) == other.end()) continue;
+            if (has_patch_ && !has_patch_(cell)) continue;
+            auto& list = links_[cell];
+            if (std::find(list.begin(), list.end(), link) == list.end()) list.push_back(link);
+        }
     }
 
     /// Follows operation k's edge curve from p (in `cell`, on the curve) along ±(∇a × ∇b),
@@ -601,6 +717,7 @@ private:
             Vec next = p;
             for (int a = 0; a < 3; ++a) next[a] += double(direction) * 0.25 * h * t[a] / lt;
             if (!solve_feature(field_, {op.a, op.b}, 2, next, h, h)) break;
+            next = snapped(next);  // a curve along a grid edge stays on it, in the cell
             if (norm(sub(next, p)) < 0.01 * h) break;
             if (box.contains(next, 0)) {
                 if (!on_boundary(next, k, h)) {
@@ -626,10 +743,11 @@ private:
                 for (int b = 0; b < 3; ++b) x[b] += fraction * (next[b] - p[b]);
                 const double plane = s ? box.hi[a] : box.lo[a];
                 if (!solve_feature(field_, {op.a, op.b}, 2, x, h, h, a, plane)) continue;
-                bool inside_face = true;  // strictly inside the face: not on an edge of four cells
+                x = snapped(x);  // on a grid edge or node: exactly there, for every cell around it
+                bool on_face = true;
                 for (int b = 0; b < 3; ++b)
-                    if (b != a && (x[b] <= box.lo[b] + 1e-9 * h || x[b] >= box.hi[b] - 1e-9 * h)) inside_face = false;
-                if (!inside_face) continue;
+                    if (b != a && (x[b] < box.lo[b] || x[b] > box.hi[b])) on_face = false;
+                if (!on_face) continue;
                 if (!on_boundary(x, k, h)) {
                     ends = true;
                     break;
@@ -644,10 +762,26 @@ private:
             if (!crossed) break;
             const auto c = coords(cell);
             if (side == 0 ? c[axis] == 0 : c[axis] + 1 >= uint64_t(cells_[axis])) break;  // the domain's face
-            const uint64_t neighbour = side ? cell + stride(axis) : cell - stride(axis);
-            const uint64_t face = (side ? cell : neighbour) * 3 + uint64_t(axis);
-            const auto [id, existed] = crossing_at(face, k, q, h);
-            if (previous >= 0) add_link(cell, previous, id);
+            // The cell the curve enters: across the face, and across each other face q lies on
+            // (a crossing at a grid edge or node) that the curve leaves by; a curve running in
+            // a grid plane stays on the side it came from.
+            std::array<long, 3> to{long(c[0]), long(c[1]), long(c[2])};
+            to[axis] += side ? 1 : -1;
+            field_.at(q);
+            const Vec tangent = cross(field_.gradient(op.a), field_.gradient(op.b));
+            const double length = norm(tangent);
+            bool leaves_domain = false;
+            for (int b = 0; b < 3; ++b) {
+                if (b == axis) continue;
+                const double along = direction * tangent[b];
+                if (q[b] == box.lo[b] && along < -1e-6 * length) --to[b];
+                if (q[b] == box.hi[b] && along > 1e-6 * length) ++to[b];
+                leaves_domain |= to[b] < 0 || to[b] >= cells_[b];
+            }
+            if (leaves_domain) break;
+            const uint64_t neighbour = uint64_t(to[0]) + stride(1) * uint64_t(to[1]) + stride(2) * uint64_t(to[2]);
+            const auto [id, existed] = crossing_at(k, q, h);
+            if (previous >= 0) add_link(previous, id);
             else if (first < 0) first = id;
             if (existed) return first;
             cell = neighbour;
@@ -677,14 +811,93 @@ private:
         equations.insert(equations.end(), later.begin(), later.end());
         Vec p;
         for (int a = 0; a < 3; ++a) p[a] = (cell.lo[a] + cell.hi[a]) / 2;
-        if (!solve_feature(field_, equations, 3, p, cell.h, 2 * cell.h) || !cell.contains(p, 1e-12 * cell.h)) return;
+        if (!solve_feature(field_, equations, 3, p, cell.h, 2 * cell.h) || !cell.contains(p, 1e-9 * cell.h)) return;
+        p = snapped(p);
+        if (!cell.contains(p, 1e-12 * cell.h)) return;
         bool on_surface = false;
         for (int k : candidates) on_surface |= on_boundary(p, k, cell.h);
         if (!on_surface) return;
-        apex_[id] = uint32_t(positions_.size());
-        positions_.push_back(p);
-        normals_.push_back(edge_normal(p, equations));
-        apex_equations_[id] = equations;
+        // On a grid face, edge or node the corner belongs to every cell around it that has
+        // triangles (one vertex for all); a traced edge's crossing there is the corner itself.
+        uint32_t vertex = UINT32_MAX;
+        for (const auto& [other, apex] : apex_)
+            if (norm(sub(positions_[apex], p)) <= 1e-9 * cell.h) vertex = apex;
+        for (uint64_t face : faces_around(p)) {
+            const auto it = face_crossings_.find(face);
+            if (it == face_crossings_.end()) continue;
+            for (int x : it->second)
+                if (norm(sub(positions_[crossings_[x].vertex], p)) <= 1e-9 * cell.h) crossings_[x].alive = false;
+        }
+        for (uint64_t at : cells_around(p)) {
+            if (apex_.count(at) || (has_patch_ && !has_patch_(at))) continue;
+            if (vertex == UINT32_MAX) {
+                vertex = uint32_t(positions_.size());
+                positions_.push_back(p);
+                normals_.push_back(edge_normal(p, equations));
+            }
+            apex_[at] = vertex;
+            apex_equations_[at] = equations;
+            tried_corner_.insert(at);
+        }
+    }
+
+    /// Where each crossing goes: of the boundary segments of the patches around it that lie on
+    /// a face holding it, the nearest, ties broken by the segments' vertices, the same for
+    /// every cell. A crossing with none within a cell dies.
+    void choose_segments(const std::function<std::optional<std::vector<uint32_t>>(uint64_t)>& patch_of) {
+        std::map<uint64_t, std::optional<std::vector<uint32_t>>> rings;
+        auto ring_of = [&](uint64_t id) -> const std::optional<std::vector<uint32_t>>& {
+            auto it = rings.find(id);
+            if (it != rings.end()) return it->second;
+            std::optional<std::vector<uint32_t>> ring;
+            if (const auto patch = patch_of(id)) {
+                std::vector<uint32_t> loop;
+                if (boundary_loop(*patch, cell_box(id), loop)) ring = std::move(loop);
+            }
+            return rings.emplace(id, std::move(ring)).first->second;
+        };
+        for (Crossing& x : crossings_) {
+            if (!x.alive) continue;
+            const Vec& q = positions_[x.vertex];
+            struct Candidate {
+                double distance;
+                std::pair<uint32_t, uint32_t> segment;
+                uint64_t face;
+            };
+            std::vector<Candidate> candidates;
+            double h = 0;
+            for (uint64_t id : cells_around(q)) {
+                const auto& ring = ring_of(id);
+                if (!ring) continue;
+                const Cell cell = cell_box(id);
+                h = cell.h;
+                const double tolerance = 1e-9 * cell.h;
+                const auto c = coords(id);
+                const std::size_t n = ring->size();
+                for (int axis = 0; axis < 3; ++axis)
+                    for (int side = 0; side < 2; ++side) {
+                        const double plane = side ? cell.hi[axis] : cell.lo[axis];
+                        if (q[axis] != plane) continue;
+                        if (side == 0 ? c[axis] == 0 : c[axis] + 1 >= uint64_t(cells_[axis])) continue;
+                        const uint64_t face = (side ? id : id - stride(axis)) * 3 + uint64_t(axis);
+                        for (std::size_t i = 0; i < n; ++i) {
+                            const uint32_t a = std::min((*ring)[i], (*ring)[(i + 1) % n]),
+                                           b = std::max((*ring)[i], (*ring)[(i + 1) % n]);
+                            const Vec &u = positions_[a], &v = positions_[b];
+                            if (std::fabs(u[axis] - plane) > tolerance || std::fabs(v[axis] - plane) > tolerance) continue;
+                            const Vec d = sub(v, u);
+                            const double s = std::clamp(dot(sub(q, u), d) / dot(d, d), 0.0, 1.0);
+                            candidates.push_back({norm(sub(q, {u[0] + s * d[0], u[1] + s * d[1], u[2] + s * d[2]})), {a, b}, face});
+                        }
+                    }
+            }
+            double nearest = std::numeric_limits<double>::infinity();
+            for (const Candidate& c : candidates) nearest = std::min(nearest, c.distance);
+            x.segment = {UINT32_MAX, UINT32_MAX};
+            for (const Candidate& c : candidates)
+                if (c.distance <= nearest + 1e-9 * h && c.segment < x.segment) x.segment = c.segment, x.face = c.face;
+            if (candidates.empty() || nearest > h) x.alive = false;
+        }
     }
 
     /// The boundary loop of a patch that is a disc, its inner vertices inside the cell.
@@ -809,32 +1022,15 @@ private:
         if (!boundary_loop(*patch, cell, loop)) return false;
         const std::size_t n = loop.size();
 
-        // Each crossing goes into the boundary segment on its face nearest to it.
+        // Each crossing goes into the boundary segment chosen for it (choose_segments).
         std::vector<int> insert(n, -1);
         for (int x : crossings) {
-            const uint64_t face = crossings_[x].face;
-            const int axis = int(face % 3);
-            const Vec& q = positions_[crossings_[x].vertex];
-            const double plane = q[axis];
-            // The same choice from both cells: each segment measured from its lower vertex
-            // index, and near ties (a crossing next to a vertex two segments share) broken by
-            // the segment's vertices.
-            std::vector<std::tuple<double, uint32_t, uint32_t, std::size_t>> candidates;
-            for (std::size_t i = 0; i < n; ++i) {
-                const uint32_t a = std::min(loop[i], loop[(i + 1) % n]), b = std::max(loop[i], loop[(i + 1) % n]);
-                const Vec &u = positions_[a], &v = positions_[b];
-                if (std::fabs(u[axis] - plane) > tolerance || std::fabs(v[axis] - plane) > tolerance) continue;
-                const Vec d = sub(v, u);
-                const double s = std::clamp(dot(sub(q, u), d) / dot(d, d), 0.0, 1.0);
-                candidates.emplace_back(norm(sub(q, {u[0] + s * d[0], u[1] + s * d[1], u[2] + s * d[2]})), a, b, i);
-            }
-            double nearest = 1e300;
-            for (const auto& c : candidates) nearest = std::min(nearest, std::get<0>(c));
             std::size_t at = n;
-            std::pair<uint32_t, uint32_t> chosen{UINT32_MAX, UINT32_MAX};
-            for (const auto& [distance, a, b, i] : candidates)
-                if (distance <= nearest + 1e-9 * h && std::pair{a, b} < chosen) chosen = {a, b}, at = i;
-            if (at == n || nearest > h || insert[at] >= 0) return false;
+            for (std::size_t i = 0; i < n; ++i)
+                if (std::pair{std::min(loop[i], loop[(i + 1) % n]), std::max(loop[i], loop[(i + 1) % n])} ==
+                    crossings_[x].segment)
+                    at = i;
+            if (at == n || insert[at] >= 0) return false;
             insert[at] = x;
         }
         // The face's boundary with the crossings in must not cross itself (the neighbour sees it).
@@ -909,8 +1105,10 @@ private:
             }
             add_direction({patch_normal[0] * turn, patch_normal[1] * turn, patch_normal[2] * turn});
             const int apex_faces = cell.faces_of(c, tolerance);
-            for (uint32_t v : ring)
-                if (apex_faces & cell.faces_of(positions_[v], tolerance)) return false;  // a spoke on a face
+            for (uint32_t v : ring) {  // a spoke on a face: only where no other cell meshes that face
+                const int shared = apex_faces & cell.faces_of(positions_[v], tolerance);
+                if (shared && !boundary_edge_free(id, shared)) return false;
+            }
             Vec direction;
             if (!graph_direction(star, apex, positions_, directions, h, direction)) return false;
             triangles = std::move(star);
@@ -924,7 +1122,7 @@ private:
                 std::size_t i = std::min(ia->second, ib->second), j = std::max(ia->second, ib->second);
                 if (j - i < 2 || (i == 0 && j == m - 1)) return false;  // joins neighbours on the ring
                 const int shared = cell.faces_of(positions_[ring[i]], tolerance) & cell.faces_of(positions_[ring[j]], tolerance);
-                if (shared) return false;  // would lie on a face
+                if (shared && !boundary_edge_free(id, shared)) return false;  // on a face another cell meshes
                 chords.push_back({i, j});
             }
             for (std::size_t x = 0; x < chords.size(); ++x)
@@ -989,6 +1187,7 @@ private:
     std::unordered_map<uint64_t, std::vector<std::pair<int, int>>> links_;  ///< per cell
     std::unordered_set<uint64_t> visited_;
     std::set<uint64_t> end_cells_, tried_corner_;
+    std::function<bool(uint64_t)> has_patch_;
     std::vector<uint64_t> corner_cells_;
     std::map<uint64_t, uint32_t> apex_;
     std::map<uint64_t, std::vector<int>> apex_equations_;
@@ -1016,6 +1215,10 @@ void sharpen_features(const ir::Graph& graph, ir::NodeId root, const Grid& grid,
             const std::size_t end = s + 1 < starts.size() ? starts[s + 1].second : order.size();
             return std::vector<uint32_t>(order.begin() + long(starts[s].second), order.begin() + long(end));
         };
+        builder.set_patch_test([&](uint64_t cell) {
+            const auto it = std::lower_bound(starts.begin(), starts.end(), std::pair<uint64_t, std::size_t>{cell, 0});
+            return it != starts.end() && it->first == cell;
+        });
         for (std::size_t s = 0; s < starts.size(); ++s) builder.seed(starts[s].first, patch_at(s), local);
         builder.build(
             [&](uint64_t cell) -> std::optional<std::vector<uint32_t>> {

@@ -344,6 +344,9 @@ struct Crossing {
     uint64_t face;     ///< where it goes: the lower cell·3 + the face's axis (set by choose_segments)
     std::pair<uint32_t, uint32_t> segment{UINT32_MAX, UINT32_MAX};  ///< the patch boundary segment it goes into
     bool alive = true;
+    /// It is a marching-tetrahedra vertex already (a grid or face diagonal edge through the
+    /// curve), moved onto the curve exactly; every cell whose boundary holds it joins there.
+    bool on_mesh_vertex = false;
 };
 
 /// The sharp-feature pass: traces the edge curves cell to cell, puts a vertex where each
@@ -522,7 +525,7 @@ public:
         for (const auto& [id, apex] : apex_) queue.push_back(id);
         for (const Crossing& c : crossings_)
             if (c.alive)
-                for (uint64_t id : cells_of_face(c.face)) queue.push_back(id);
+                for (uint64_t id : cells_sharing(c)) queue.push_back(id);
         std::sort(queue.begin(), queue.end());
         queue.erase(std::unique(queue.begin(), queue.end()), queue.end());
         std::set<uint64_t> pending(queue.begin(), queue.end());
@@ -541,9 +544,13 @@ public:
                 pending.insert(id);
                 continue;
             }
+            if (add_edge_apex(id)) {  // a fan from a point of the edge keeps the crossings
+                pending.insert(id);
+                continue;
+            }
             for (int c : crossings_in(id)) {
                 crossings_[c].alive = false;
-                for (uint64_t other : cells_of_face(crossings_[c].face))
+                for (uint64_t other : cells_sharing(crossings_[c]))
                     if (other != id) pending.insert(other);
             }
         }
@@ -632,6 +639,14 @@ private:
         return {lower, lower + stride(int(face % 3))};
     }
 
+    /// The cells whose boundary holds crossing c: those of its chosen face, or all around a
+    /// marching-tetrahedra vertex it is.
+    std::vector<uint64_t> cells_sharing(const Crossing& c) const {
+        if (c.on_mesh_vertex) return cells_around(positions_[c.vertex]);
+        const auto two = cells_of_face(c.face);
+        return {two[0], two[1]};
+    }
+
     /// The crossings (alive) on the faces of cell `id`.
     std::vector<int> crossings_in(uint64_t id) const {
         std::vector<int> out;
@@ -643,8 +658,10 @@ private:
                 const auto it = face_crossings_.find(face);
                 if (it == face_crossings_.end()) continue;
                 for (int x : it->second)
-                    if (crossings_[x].alive && crossings_[x].face == face) out.push_back(x);
+                    if (crossings_[x].alive && (crossings_[x].face == face || crossings_[x].on_mesh_vertex)) out.push_back(x);
             }
+        std::sort(out.begin(), out.end());
+        out.erase(std::unique(out.begin(), out.end()), out.end());
         return out;
     }
 
@@ -841,6 +858,59 @@ private:
         }
     }
 
+    /// For a cell whose crossings cannot be joined by edges (the boundary split along them
+    /// folds, or a corner on a face two cells mesh could not be fanned): a fan from a point of
+    /// the edge curve in the cell (Newton from its crossings' mean), so the crossings stay and
+    /// the neighbours keep theirs; a failed cell would otherwise undo the whole chain, cell
+    /// after cell. Tried once per cell; false if there is no such point.
+    bool add_edge_apex(uint64_t id) {
+        if (!edge_apex_tried_.insert(id).second) return false;
+        const std::vector<int> crossings = crossings_in(id);
+        if (crossings.empty()) return false;
+        std::map<int, int> count;
+        for (int x : crossings) ++count[crossings_[x].operation];
+        const int k = std::max_element(count.begin(), count.end(), [](const auto& a, const auto& b) {
+                          return a.second < b.second;
+                      })->first;
+        const Cell cell = cell_box(id);
+        Vec p{0, 0, 0};
+        for (int x : crossings)
+            if (crossings_[x].operation == k)
+                for (int a = 0; a < 3; ++a) p[a] += positions_[crossings_[x].vertex][a] / count[k];
+        if (count[k] == 1)  // one crossing: from halfway to the cell's centre, not onto the crossing
+            for (int a = 0; a < 3; ++a) p[a] = (p[a] + (cell.lo[a] + cell.hi[a]) / 2) / 2;
+        const auto& op = field_.operations()[k];
+        std::vector<int> equations{op.a, op.b};
+        const Vec start = p;
+        bool found = solve_feature(field_, equations, 2, p, cell.h, 2 * cell.h) && cell.contains(p, 1e-9 * cell.h);
+        if (found) {
+            p = snapped(p);
+            found = cell.contains(p, 0) && on_boundary(p, k, cell.h);
+        }
+        if (!found) {
+            // The curve only touches the cell (through a grid node or along a grid edge of it):
+            // a point of the surface instead, Newton along the gradient from the cell's middle.
+            equations = {0};
+            for (int a = 0; a < 3; ++a) p[a] = (start[a] + (cell.lo[a] + cell.hi[a]) / 2) / 2;
+            for (int iteration = 0; iteration < 40 && !found; ++iteration) {
+                field_.at(p);
+                const Vec g = field_.gradient(0);
+                const double g2 = dot(g, g), f = field_.value(0);
+                if (!(g2 > 0) || !std::isfinite(f) || !finite(g)) return false;
+                for (int a = 0; a < 3; ++a) p[a] -= f * g[a] / g2;
+                found = std::fabs(f) / std::sqrt(g2) <= 1e-12 * cell.h;
+            }
+            if (!found || !cell.contains(p, -1e-3 * cell.h)) return false;
+        }
+        for (int x : crossings)
+            if (norm(sub(positions_[crossings_[x].vertex], p)) < 1e-3 * cell.h) return false;
+        apex_[id] = uint32_t(positions_.size());
+        positions_.push_back(p);
+        normals_.push_back(edge_normal(p, equations));
+        apex_equations_[id] = equations;
+        return true;
+    }
+
     /// Where each crossing goes: of the boundary segments of the patches around it that lie on
     /// a face holding it, the nearest, ties broken by the segments' vertices, the same for
     /// every cell. A crossing with none within a cell dies.
@@ -893,6 +963,19 @@ private:
             }
             double nearest = std::numeric_limits<double>::infinity();
             for (const Candidate& c : candidates) nearest = std::min(nearest, c.distance);
+            // At a marching-tetrahedra vertex to within 1e-6 of a cell (Newton along its edge
+            // stops at 1e-7 of it): that vertex is the crossing, moved exactly onto the curve.
+            uint32_t at_vertex = UINT32_MAX;
+            double closest = 1e-6 * h;
+            for (const Candidate& c : candidates)
+                for (uint32_t v : {c.segment.first, c.segment.second})
+                    if (norm(sub(positions_[v], q)) <= closest) closest = norm(sub(positions_[v], q)), at_vertex = v;
+            if (at_vertex != UINT32_MAX) {
+                positions_[at_vertex] = q;
+                x.vertex = at_vertex;
+                x.on_mesh_vertex = true;
+                continue;
+            }
             x.segment = {UINT32_MAX, UINT32_MAX};
             for (const Candidate& c : candidates)
                 if (c.distance <= nearest + 1e-9 * h && c.segment < x.segment) x.segment = c.segment, x.face = c.face;
@@ -1025,6 +1108,7 @@ private:
         // Each crossing goes into the boundary segment chosen for it (choose_segments).
         std::vector<int> insert(n, -1);
         for (int x : crossings) {
+            if (crossings_[x].on_mesh_vertex) continue;
             std::size_t at = n;
             for (std::size_t i = 0; i < n; ++i)
                 if (std::pair{std::min(loop[i], loop[(i + 1) % n]), std::max(loop[i], loop[(i + 1) % n])} ==
@@ -1056,6 +1140,8 @@ private:
         std::vector<uint32_t> ring;
         std::map<int, std::size_t> position;  // crossing → its index in the ring
         for (std::size_t i = 0; i < n; ++i) {
+            for (int x : crossings)
+                if (crossings_[x].on_mesh_vertex && crossings_[x].vertex == loop[i]) position[x] = ring.size();
             ring.push_back(loop[i]);
             if (insert[i] >= 0) {
                 position[insert[i]] = ring.size();
@@ -1188,6 +1274,7 @@ private:
     std::unordered_set<uint64_t> visited_;
     std::set<uint64_t> end_cells_, tried_corner_;
     std::function<bool(uint64_t)> has_patch_;
+    std::set<uint64_t> edge_apex_tried_;
     std::vector<uint64_t> corner_cells_;
     std::map<uint64_t, uint32_t> apex_;
     std::map<uint64_t, std::vector<int>> apex_equations_;

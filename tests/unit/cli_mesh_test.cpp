@@ -397,6 +397,53 @@ double nearest_vertex(const P3& p, const test::CheckedMesh& mesh) {
     return best;
 }
 
+/// Meshes and checks the case, then asserts every corner is a vertex and every point of each
+/// straight edge (corners[a] to corners[b]) lies on mesh edges, to 1e-9 of the domain's size.
+void check_straight_edges(const test::ScratchDir& dir, const Case& c, const std::vector<P3>& corners,
+                          const std::vector<std::pair<int, int>>& edges) {
+    CAPTURE(c.name);
+    CAPTURE(c.size);
+    double size = 0, h = 0;
+    for (int k = 0; k < 3; ++k) size = std::max(size, c.hi[k] - c.lo[k]), h = std::max(h, (c.hi[k] - c.lo[k]) / (c.size - 1));
+    mesh_and_check(c, dir, kSharp);
+    const test::CheckedMesh mesh = test::read_binary_ply(dir / (c.name + ".ply"));
+    double worst_corner = 0;
+    for (const P3& corner : corners) worst_corner = std::max(worst_corner, nearest_vertex(corner, mesh));
+    CHECK(worst_corner <= 1e-9 * size);
+    double worst_edge = 0;
+    for (const auto& [a, b] : edges) worst_edge = std::max(worst_edge, polyline_to_edges({corners[a], corners[b]}, mesh, h));
+    CHECK(worst_edge <= 1e-9 * size);
+}
+
+/// The box (±a, ±b, ±c): its 8 corners (bit k of the index: + along axis k) and 12 edges.
+std::vector<P3> box_corners(const P3& half) {
+    std::vector<P3> corners;
+    for (int k = 0; k < 8; ++k) corners.push_back({k & 1 ? half[0] : -half[0], k & 2 ? half[1] : -half[1], k & 4 ? half[2] : -half[2]});
+    return corners;
+}
+std::vector<std::pair<int, int>> box_edges() {
+    std::vector<std::pair<int, int>> edges;
+    for (int k = 0; k < 8; ++k)
+        for (int bit : {1, 2, 4})
+            if (!(k & bit)) edges.push_back({k, k | bit});
+    return edges;
+}
+
+/// The pentagon prism's corners, (0, 4), (7, 4), (7, -3), (0, -3), (-3.5, 0.5) at z = ±2, and
+/// its 15 edges.
+std::vector<P3> prism_corners() {
+    std::vector<P3> corners;
+    const double xy[5][2] = {{0, 4}, {7, 4}, {7, -3}, {0, -3}, {-3.5, 0.5}};
+    for (double z : {-2.0, 2.0})
+        for (const auto& c : xy) corners.push_back({c[0], c[1], z});
+    return corners;
+}
+std::vector<std::pair<int, int>> prism_edges() {
+    std::vector<std::pair<int, int>> edges;
+    for (int i = 0; i < 5; ++i) edges.push_back({i, (i + 1) % 5}), edges.push_back({5 + i, 5 + (i + 1) % 5}), edges.push_back({i, 5 + i});
+    return edges;
+}
+
 }  // namespace
 
 TEST_CASE("sharp edges are chains of mesh edges through the traced curve, and corners are vertices") {
@@ -427,30 +474,9 @@ TEST_CASE("sharp edges are chains of mesh edges through the traced curve, and co
                 CHECK(pieces >= 150);  // the traced part of the two ellipses, 15.3 long, in cells of 0.081
             }
             // Straight edges: every point of each, corner to corner, on mesh edges.
-            auto straight = [&](const std::string& name, const std::string& text, const P3& lo, const P3& hi, int nodes,
-                                const std::vector<P3>& corners, const std::vector<std::pair<int, int>>& edges) {
-                CAPTURE(name);
-                double size = 0, h = 0;
-                for (int k = 0; k < 3; ++k) size = std::max(size, hi[k] - lo[k]), h = std::max(h, (hi[k] - lo[k]) / (nodes - 1));
-                mesh_and_check({name, dir.write(name + ".fortu", text), lo, hi, nodes, rsystem}, dir, kSharp);
-                const test::CheckedMesh mesh = test::read_binary_ply(dir / (name + ".ply"));
-                double worst_corner = 0;
-                for (const P3& c : corners) worst_corner = std::max(worst_corner, nearest_vertex(c, mesh));
-                CHECK(worst_corner <= 1e-9 * size);
-                double worst_edge = 0;
-                for (const auto& [a, b] : edges)
-                    worst_edge = std::max(worst_edge, polyline_to_edges({corners[a], corners[b]}, mesh, h));
-                CHECK(worst_edge <= 1e-9 * size);
-            };
-            {  // The pentagon prism: corners (0, 4), (7, 4), (7, -3), (0, -3), (-3.5, 0.5) at z = ±2.
-                std::vector<P3> corners;
-                const double xy[5][2] = {{0, 4}, {7, 4}, {7, -3}, {0, -3}, {-3.5, 0.5}};
-                for (double z : {-2.0, 2.0})
-                    for (const auto& c : xy) corners.push_back({c[0], c[1], z});
-                std::vector<std::pair<int, int>> edges;
-                for (int i = 0; i < 5; ++i) edges.push_back({i, (i + 1) % 5}), edges.push_back({5 + i, 5 + (i + 1) % 5}), edges.push_back({i, 5 + i});
-                straight("prism_chain", kPentagonPrism, {-5.03, -4.07, -3.01}, {8.02, 5.04, 3.05}, 41, corners, edges);
-            }
+            check_straight_edges(dir, {"prism_chain", dir.write("prism_chain.fortu", kPentagonPrism), {-5.03, -4.07, -3.01},
+                                       {8.02, 5.04, 3.05}, 41, rsystem},
+                                 prism_corners(), prism_edges());
             // A plate on the LRFM FLOZ3 triangle (1, 0, 1), (-1, 1, -1), (-1, -1, -1): its plane
             // z = x thickened to |z − x| ≤ 0.3, cut by the planes through its sides. Checked for
             // the mesh's guarantees only: at its 39° tip the corner's cell has no triangles
@@ -542,4 +568,54 @@ TEST_CASE("every 3D RANOK script, bear.vm and the FLOZ3 sphere mesh with no --do
     MESSAGE(meshed, " meshed: ", header, " on their header's domain, ", automatic, " with --domain auto, ", unbounded,
             " unbounded on [-1, 1]^3; worst distance ", worst, " cells");
     CHECK(meshed == 56);
+}
+
+TEST_CASE("sharp edges and corners on grid nodes, grid edges and cell faces stay exact") {
+    // Lattices that put the features on the lattice: a corner on a node is shared by eight
+    // cells, an edge along a grid edge by four, an edge in a grid plane by two; the zero nodes
+    // there count as outside, so marching tetrahedra alone chamfer such edges by up to half a
+    // cell's diagonal. Each size in each R-system.
+    test::ScratchDir dir;
+    const std::string box = dir.write("box_on_lattice.fortu", "ARGUMENT X, Y, Z;\nRETURN (0.5^2 - X^2) & (0.75^2 - Y^2) & (0.25^2 - Z^2);\n");
+    const std::string prism_path = dir.write("prism_on_lattice.fortu", kPentagonPrism);
+    const std::string steinmetz = dir.write("steinmetz_on_lattice.fortu", kSteinmetz);
+    for (const std::string rsystem : {"r0", "alpha=0.5", "minmax"}) {
+        SUBCASE(rsystem.c_str()) {
+            // [-1, 1]³: 9, 17 and 25 nodes put every face on grid nodes; 13 only the faces x = ±0.5.
+            for (int nodes : {9, 13, 17, 25})
+                check_straight_edges(dir, {"box_on_lattice", box, {-1, -1, -1}, {1, 1, 1}, nodes, rsystem},
+                                     box_corners({0.5, 0.75, 0.25}), box_edges());
+            // The pentagon prism on cells of 0.5 (every corner on a node, the slanted sides along
+            // the cells' face diagonals, one with the Kuhn split's diagonal, one across it) and
+            // of 1 (the corner (-3.5, 0.5) off the lattice). Exact: the box-like end x = 7, its
+            // four corners on nodes with one cell around each that has triangles. Not yet: a
+            // corner on a grid plane the solid lies on both sides of (two or more cells around it
+            // have triangles; (0, 4), (0, -3), (-3.5, 0.5) here) keeps marching tetrahedra's cut,
+            // and the edges into it end a cell before it (README "Meshes"); the guarantees hold.
+            const std::vector<P3> prism = prism_corners();
+            for (int nodes : {27, 14})
+                check_straight_edges(dir, {"prism_on_lattice", prism_path, {-5, -4, -3}, {8, 5, 3}, nodes, rsystem},
+                                     {prism[1], prism[2], prism[6], prism[7]}, {{0, 1}, {2, 3}, {0, 2}, {1, 3}});
+            // Steinmetz on cells of 0.2: its edges y = ±z pass through the nodes (0, ±1, ±1) and
+            // (±0.6, ±0.8, ±0.8) and lie in the Kuhn split's diagonal planes, all joined.
+            {
+                const int nodes = 13;
+                const P3 lo{-1.2, -1.2, -1.2}, hi{1.2, 1.2, 1.2};
+                const double h = 2.4 / (nodes - 1);
+                mesh_and_check({"steinmetz_on_lattice", steinmetz, lo, hi, nodes, rsystem}, dir, kSharp);
+                const test::CheckedMesh mesh = test::read_binary_ply(dir / "steinmetz_on_lattice.ply");
+                const Model model = load(steinmetz, rsystem);
+                const PointEvaluator field(model.graph, model.root);
+                const OperandField phi(dir, "phi", "1 - X^2 - Y^2"), psi(dir, "psi", "1 - X^2 - Z^2");
+                for (const P3 seed : {P3{0.02, 1, 1}, P3{0.02, 1, -1}, P3{0.02, -1, 1}, P3{0.02, -1, -1}}) {
+                    CAPTURE(seed);
+                    CHECK(polyline_to_edges(trace_edge(phi, psi, field, seed, lo, hi, nodes), mesh, h) <= 1e-9 * 2.4);
+                }
+            }
+            // On cells of 0.1 the curve crosses grid nodes diagonally (from one cell to the one
+            // across the node): such a crossing goes into one face's segment and the chain has
+            // a gap there (README "Meshes"); the guarantees hold.
+            mesh_and_check({"steinmetz_on_lattice", steinmetz, {-1.2, -1.2, -1.2}, {1.2, 1.2, 1.2}, 25, rsystem}, dir, kSharp);
+        }
+    }
 }

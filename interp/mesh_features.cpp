@@ -533,6 +533,28 @@ public:
             const uint64_t id = *pending.begin();
             pending.erase(pending.begin());
             std::vector<Tri> triangles;
+            if (const auto group = groups_.find(id); group != groups_.end()) {
+                // A corner the cells around it share: one fan over their joined patches.
+                const std::vector<uint64_t> cells = group->second;
+                std::vector<uint32_t> joined;
+                bool all = true;
+                for (uint64_t g : cells) {
+                    const auto patch = patch_of(g);
+                    if (!patch) all = false;
+                    else joined.insert(joined.end(), patch->begin(), patch->end());
+                }
+                for (uint64_t g : cells) results_.erase(g);
+                if (all && build_cell(cells.front(), &joined, triangles, &cells)) {
+                    results_[cells.front()] = {std::move(joined), std::move(triangles)};
+                    continue;
+                }
+                for (uint64_t g : cells) {  // each on its own, without the corner
+                    groups_.erase(g);
+                    apex_.erase(g);
+                    pending.insert(g);
+                }
+                continue;
+            }
             const std::optional<std::vector<uint32_t>> patch = patch_of(id);
             if (build_cell(id, patch ? &*patch : nullptr, triangles)) {
                 if (patch && !triangles.empty()) results_[id] = {*patch, std::move(triangles)};
@@ -845,6 +867,7 @@ private:
             for (int x : it->second)
                 if (norm(sub(positions_[crossings_[x].vertex], p)) <= 1e-9 * cell.h) crossings_[x].alive = false;
         }
+        std::vector<uint64_t> cells;
         for (uint64_t at : cells_around(p)) {
             if (apex_.count(at) || (has_patch_ && !has_patch_(at))) continue;
             if (vertex == UINT32_MAX) {
@@ -855,7 +878,10 @@ private:
             apex_[at] = vertex;
             apex_equations_[at] = equations;
             tried_corner_.insert(at);
+            cells.push_back(at);
         }
+        if (cells.size() > 1)
+            for (uint64_t at : cells) groups_[at] = cells;
     }
 
     /// For a cell whose crossings cannot be joined by edges (the boundary split along them
@@ -1094,12 +1120,31 @@ private:
 
     /// Cell `id`'s patch with its crossings put on its boundary and cut along its feature
     /// edges (the traced links, or the spokes from its corner). False if any test fails.
-    bool build_cell(uint64_t id, const std::vector<uint32_t>* patch, std::vector<Tri>& out) {
-        const std::vector<int> crossings = crossings_in(id);
+    bool build_cell(uint64_t id, const std::vector<uint32_t>* patch, std::vector<Tri>& out,
+                    const std::vector<uint64_t>* group = nullptr) {
+        std::vector<int> crossings = crossings_in(id);
         const auto apex_it = apex_.find(id);
+        Cell cell = cell_box(id);
+        if (group) {
+            // The cells' joined box; crossings on the faces between them are inside the fan.
+            for (uint64_t g : *group) {
+                const Cell other = cell_box(g);
+                for (int a = 0; a < 3; ++a) cell.lo[a] = std::min(cell.lo[a], other.lo[a]), cell.hi[a] = std::max(cell.hi[a], other.hi[a]);
+                const std::vector<int> more = crossings_in(g);
+                crossings.insert(crossings.end(), more.begin(), more.end());
+            }
+            std::sort(crossings.begin(), crossings.end());
+            crossings.erase(std::unique(crossings.begin(), crossings.end()), crossings.end());
+            std::erase_if(crossings, [&](int x) {
+                if (crossings_[x].on_mesh_vertex) return false;
+                const auto two = cells_of_face(crossings_[x].face);
+                return std::find(group->begin(), group->end(), two[0]) != group->end() &&
+                       std::find(group->begin(), group->end(), two[1]) != group->end();
+            });
+            if (apex_it == apex_.end()) return false;
+        }
         if (crossings.empty() && apex_it == apex_.end()) return true;  // nothing to change
         if (!patch) return false;
-        const Cell cell = cell_box(id);
         const double h = cell.h, tolerance = 1e-9 * h;
         std::vector<uint32_t> loop;
         if (!boundary_loop(*patch, cell, loop)) return false;
@@ -1190,7 +1235,7 @@ private:
                     add_direction({normals[i][0] + normals[j][0], normals[i][1] + normals[j][1], normals[i][2] + normals[j][2]});
             }
             add_direction({patch_normal[0] * turn, patch_normal[1] * turn, patch_normal[2] * turn});
-            const int apex_faces = cell.faces_of(c, tolerance);
+            const int apex_faces = group ? 0 : cell.faces_of(c, tolerance);  // a group's corner is inside its box
             for (uint32_t v : ring) {  // a spoke on a face: only where no other cell meshes that face
                 const int shared = apex_faces & cell.faces_of(positions_[v], tolerance);
                 if (shared && !boundary_edge_free(id, shared)) return false;
@@ -1275,6 +1320,9 @@ private:
     std::set<uint64_t> end_cells_, tried_corner_;
     std::function<bool(uint64_t)> has_patch_;
     std::set<uint64_t> edge_apex_tried_;
+    /// Cells sharing a corner on the lattice (the solid on both sides of a grid plane through
+    /// it), each mapped to all of them: fanned together, their shared faces inside the fan.
+    std::map<uint64_t, std::vector<uint64_t>> groups_;
     std::vector<uint64_t> corner_cells_;
     std::map<uint64_t, uint32_t> apex_;
     std::map<uint64_t, std::vector<int>> apex_equations_;

@@ -18,7 +18,12 @@
 // projected along its mean normal, keeps its triangles' orientation and has a simple boundary
 // (so it cannot fold or cross itself), the polygons do not cross each other, no triangle edge
 // lies across a face, and the face segments with crossings in do not cross. A cell that fails
-// gives up its crossings; its neighbours are redone without them.
+// is fanned from a point of its edge curve over its boundary, crossings included; failing
+// that, it gives up its crossings and its neighbours are redone without them.
+// Features on the lattice (a crossing on a grid edge or node, a corner on a grid plane): the
+// point is snapped exactly there and shared by every cell around it: each crossing goes into
+// one patch-boundary segment chosen once for all cells, and a corner the solid surrounds on
+// both sides of a grid plane is fanned over the joined patches of the cells around it.
 #pragma once
 
 #include "interp/ir/ir.hpp"

@@ -2,6 +2,7 @@
 #include "interp/domain_auto.hpp"
 
 #include "interp/box_simplify.hpp"
+#include "interp/engine.hpp"
 #include "interp/interval.hpp"
 #include "interp/tape.hpp"
 
@@ -83,6 +84,39 @@ std::optional<std::array<AxisRange, 3>> search(const Tape& tape, int axes, doubl
     return box;
 }
 
+/// Where intervals are too loose to bound the solid (smooth blends through exp and ln, RANOK's
+/// R-operations written out as formulas), the nodes of a 65-per-axis lattice over the cube:
+/// the box of the positive nodes, one lattice step wider each way; nullopt when a positive
+/// node is on the cube's faces (the solid may go on), the empty box when none is positive.
+/// Not a proof: a part thinner than a step can lie between the nodes.
+std::optional<std::array<AxisRange, 3>> sample(const Model& model, int axes, const std::array<AxisRange, 3>& cube) {
+    constexpr int kNodes = 65;
+    Grid grid;
+    grid.dims = axes == 3 ? 3 : 2;
+    Axis* grid_axes[3] = {&grid.x, &grid.y, &grid.z};
+    for (int a = 0; a < 3; ++a) *grid_axes[a] = a < axes ? Axis{cube[a].min, cube[a].max, kNodes} : Axis{0, 0, 1};
+    const Field field = evaluate_grid(model, grid, default_engine());
+    std::array<AxisRange, 3> box;
+    for (int a = 0; a < 3; ++a) box[a] = AxisRange{1e300, -1e300};
+    bool any = false;
+    for (int slice = 0; slice < grid.slices(); ++slice)
+        for (int row = 0; row < grid.rows(); ++row)
+            for (int col = 0; col < grid.cols(); ++col) {
+                if (!(field.values[grid.index(col, row, slice)] > 0)) continue;
+                const int at[3] = {col, grid.rows() - 1 - row, slice};
+                for (int a = 0; a < axes; ++a) {
+                    if (at[a] == 0 || at[a] == kNodes - 1) return std::nullopt;
+                    const double x = cube[a].min + at[a] * (*grid_axes[a]).step();
+                    box[a].min = std::min(box[a].min, x - grid_axes[a]->step());
+                    box[a].max = std::max(box[a].max, x + grid_axes[a]->step());
+                }
+                any = true;
+            }
+    if (!any) box[0] = AxisRange{1, -1};
+    for (int a = axes; a < 3; ++a) box[a] = AxisRange{-1, 1};
+    return box;
+}
+
 }  // namespace
 
 std::variant<std::array<AxisRange, 3>, std::string> find_domain_auto(const Model& model) {
@@ -96,6 +130,16 @@ std::variant<std::array<AxisRange, 3>, std::string> find_domain_auto(const Model
         if (!box) { all_empty = false; continue; }
         if ((*box)[0].min > (*box)[0].max) continue;   // nothing in this cube; a larger one may hold it
         return *box;
+    }
+    // Intervals too loose: growing cubes sampled, then the box found sampled again, finer.
+    for (double half = 1; half <= kAutoDomainSearch; half *= 4) {
+        std::array<AxisRange, 3> cube;
+        for (int a = 0; a < 3; ++a) cube[a] = AxisRange{-half, half};
+        const std::optional<std::array<AxisRange, 3>> box = sample(model, axes, cube);
+        if (!box) continue;
+        if ((*box)[0].min > (*box)[0].max) continue;
+        const std::optional<std::array<AxisRange, 3>> finer = sample(model, axes, *box);
+        return finer && (*finer)[0].min <= (*finer)[0].max ? *finer : *box;
     }
     const std::string cube = fmt::format("[-{0}, {0}]{1}", kAutoDomainSearch, axes == 3 ? "³" : axes == 2 ? "²" : "");
     if (all_empty)

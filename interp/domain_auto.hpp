@@ -6,7 +6,10 @@
 // search cube is halved level by level, keeping only the cells that may hold the solid, and
 // the bounds of the cells left are a box that contains it (a little loose where the
 // intervals are). When cells at the search cube's faces survive, the solid is unbounded (or
-// larger than the cube); when none survive, it is empty.
+// larger than the cube); when none survive, it is empty. Where the intervals are too loose
+// for every cube (exp/ln blends, R-operations written as formulas), the cubes are sampled on a
+// lattice instead: a box of the positive nodes, not a proof (a part thinner than a step can
+// lie between them).
 #pragma once
 
 #include "interp/model.hpp"

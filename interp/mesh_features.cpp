@@ -1,5 +1,5 @@
-// interp/mesh_features.cpp — feature cells, their points by Newton's method, the fans and the
-// flips across shared faces (the why is in mesh_features.hpp).
+// interp/mesh_features.cpp — seeds, edge curves traced cell to cell, their face crossings and
+// corners, and the cells re-triangulated through them (the why is in mesh_features.hpp).
 #include "interp/mesh_features.hpp"
 
 #include "interp/lane_kernel.hpp"
@@ -8,9 +8,15 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
+#include <limits>
 #include <map>
 #include <numbers>
+#include <optional>
+#include <set>
+#include <tuple>
 #include <unordered_map>
+#include <unordered_set>
 
 namespace fortu {
 namespace {
@@ -36,6 +42,11 @@ constexpr double kReachFactor = 2.0;
 /// not make it degenerate, nor flip its projection.
 constexpr double kMinArea = 1e-4;
 constexpr double kMinProjectedArea = 1e-6;
+/// The same bounds for the triangles of a cell an edge crosses: an edge that passes within
+/// 1e-4 cell of a grid edge (it happens: the Steinmetz curve on a lattice of 33) leaves only
+/// slivers of about 1e-8 cell² there, still 100 times the independent checker's 1e-10.
+constexpr double kMinChainArea = 1e-9;
+constexpr double kMinChainProjectedArea = 1e-11;
 /// Newton's method stops when a step is below this fraction of a cell; the point is then
 /// on the feature to round-off (quadratic convergence, one step for planes).
 constexpr double kStepTolerance = 1e-13;
@@ -154,13 +165,41 @@ bool choose_independent(const FeatureField& field, const std::vector<int>& equat
     return int(chosen.size()) == want;
 }
 
+/// The minimum-norm step s = Jᵀ(JJᵀ)⁻¹F for the rows of J and the values F (at most three);
+/// false when JJᵀ is singular.
+bool min_norm_step(const std::vector<Vec>& rows, const std::vector<double>& rhs, Vec& step) {
+    const int n = int(rows.size());
+    double m[3][4];
+    for (int i = 0; i < n; ++i) {
+        for (int j = 0; j < n; ++j) m[i][j] = dot(rows[i], rows[j]);
+        m[i][3] = rhs[i];
+    }
+    for (int c = 0; c < n; ++c) {
+        int pivot = c;
+        for (int r = c + 1; r < n; ++r)
+            if (std::fabs(m[r][c]) > std::fabs(m[pivot][c])) pivot = r;
+        std::swap(m[c], m[pivot]);
+        if (!(std::fabs(m[c][c]) > 0)) return false;
+        for (int r = 0; r < n; ++r) {
+            if (r == c) continue;
+            const double f = m[r][c] / m[c][c];
+            for (int k = c; k < 4; ++k) m[r][k] -= f * m[c][k];
+        }
+    }
+    step = {0, 0, 0};
+    for (int i = 0; i < n; ++i)
+        for (int k = 0; k < 3; ++k) step[k] += m[i][3] / m[i][i] * rows[i][k];
+    return true;
+}
+
 /// Newton's method from p onto the common zero of `want` (2 or 3) of `equations` (outputs of
 /// `field`), chosen afresh at each step, in order, as the first independent ones: the
 /// minimum-norm step s = Jᵀ(JJᵀ)⁻¹F, as `fortu singular` takes onto an edge (for 3, the plain
-/// Newton step onto a corner). True when it converged within `reach` of the start with every
-/// equation zero to round-off.
+/// Newton step onto a corner). With `plane_axis` ≥ 0 the point is also held to the plane
+/// p[plane_axis] = plane (where an edge crosses a cell's face). True when it converged within
+/// `reach` of the start with every equation zero to round-off.
 bool solve_feature(FeatureField& field, const std::vector<int>& equations, int want, Vec& p, double h,
-                   double reach) {
+                   double reach, int plane_axis = -1, double plane = 0) {
     const Vec start = p;
     for (int iteration = 0; iteration < 40; ++iteration) {
         field.at(p);
@@ -169,28 +208,15 @@ bool solve_feature(FeatureField& field, const std::vector<int>& equations, int w
         std::vector<Vec> rows;
         std::vector<double> rhs;
         for (int e : chosen) rows.push_back(field.gradient(e)), rhs.push_back(field.value(e));
-        // (J Jᵀ) λ = F by Gaussian elimination with pivoting (want ≤ 3), then s = Jᵀ λ.
-        double m[3][4];
-        for (int i = 0; i < want; ++i) {
-            for (int j = 0; j < want; ++j) m[i][j] = dot(rows[i], rows[j]);
-            m[i][3] = rhs[i];
+        if (plane_axis >= 0) {
+            Vec e{0, 0, 0};
+            e[plane_axis] = 1;
+            rows.push_back(e), rhs.push_back(p[plane_axis] - plane);
         }
-        for (int c = 0; c < want; ++c) {
-            int pivot = c;
-            for (int r = c + 1; r < want; ++r)
-                if (std::fabs(m[r][c]) > std::fabs(m[pivot][c])) pivot = r;
-            std::swap(m[c], m[pivot]);
-            if (!(std::fabs(m[c][c]) > 0)) return false;
-            for (int r = 0; r < want; ++r) {
-                if (r == c) continue;
-                const double f = m[r][c] / m[c][c];
-                for (int k = c; k < 4; ++k) m[r][k] -= f * m[c][k];
-            }
-        }
-        Vec step{0, 0, 0};
-        for (int i = 0; i < want; ++i)
-            for (int k = 0; k < 3; ++k) step[k] += m[i][3] / m[i][i] * rows[i][k];
+        Vec step;
+        if (!min_norm_step(rows, rhs, step)) return false;
         for (int k = 0; k < 3; ++k) p[k] -= step[k];
+        if (plane_axis >= 0) p[plane_axis] = plane;
         if (!finite(p) || norm(sub(p, start)) > reach) return false;
         if (norm(step) <= kStepTolerance * h) {
             field.at(p);
@@ -212,19 +238,17 @@ struct Cell {
             if (p[a] < lo[a] - margin || p[a] > hi[a] + margin) return false;
         return true;
     }
+    /// The face planes (axis·2 + side) p lies on, within `tolerance`, as a bit set.
+    int faces_of(const Vec& p, double tolerance) const {
+        int bits = 0;
+        for (int a = 0; a < 3; ++a) {
+            if (std::fabs(p[a] - lo[a]) <= tolerance) bits |= 1 << (2 * a);
+            if (std::fabs(p[a] - hi[a]) <= tolerance) bits |= 1 << (2 * a + 1);
+        }
+        return bits;
+    }
 };
 
-/// A feature vertex and the triangles around it (each stored with the vertex first).
-struct Fan {
-    uint64_t cell;
-    uint32_t vertex;               ///< its index in the final vertex list (before compaction)
-    Vec point, direction;          ///< direction: one the star is a graph along
-    std::vector<Vec> directions;   ///< the ones to try: the feature's faces' normals, their sums
-    std::vector<int> operations;   ///< the R-operations whose edges meet here
-    std::vector<std::size_t> triangles;  ///< indices into the new-triangle list
-};
-
-/// Whether the triangles around `apex` (each starting with it), projected on the plane
 /// across `direction`, keep their orientation, are not degenerate, and wind once around it:
 /// the surface there is then a graph over that plane.
 bool star_is_graph(const std::vector<Tri>& star, uint32_t apex, const std::vector<Vec>& at, const Vec& direction,
@@ -277,15 +301,59 @@ bool graph_direction(const std::vector<Tri>& star, uint32_t apex, const std::vec
     return false;
 }
 
-Tri rotate_to(const Tri& t, uint32_t first) {
-    if (t[1] == first) return {t[1], t[2], t[0]};
-    if (t[2] == first) return {t[2], t[0], t[1]};
-    return t;
+/// Whether segments ab and cd of the plane cross at a point that is not an end they share.
+bool segments_cross_2d(const std::array<double, 2>& a, const std::array<double, 2>& b, const std::array<double, 2>& c,
+                       const std::array<double, 2>& d, double eps) {
+    auto side = [&](const std::array<double, 2>& p, const std::array<double, 2>& q, const std::array<double, 2>& r) {
+        const double v = (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
+        return v > eps ? 1 : v < -eps ? -1 : 0;
+    };
+    const int s1 = side(a, b, c), s2 = side(a, b, d), s3 = side(c, d, a), s4 = side(c, d, b);
+    if (s1 * s2 < 0 && s3 * s4 < 0) return true;
+    auto near_segment = [&](const std::array<double, 2>& p, const std::array<double, 2>& q,
+                            const std::array<double, 2>& r) {  // r on pq, not at its ends
+        const double t = ((r[0] - p[0]) * (q[0] - p[0]) + (r[1] - p[1]) * (q[1] - p[1])) /
+                         ((q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]));
+        return t > 1e-9 && t < 1 - 1e-9;
+    };
+    // Collinear touching that is not a shared end.
+    return (s1 == 0 && near_segment(a, b, c)) || (s2 == 0 && near_segment(a, b, d)) ||
+           (s3 == 0 && near_segment(c, d, a)) || (s4 == 0 && near_segment(c, d, b));
 }
 
-class Sharpener {
+/// Whether segment pq passes through the inside of triangle abc (strictly, within `eps` of
+/// volume): two triangles of one cell that do not share an edge must not cross.
+bool segment_through_triangle(const Vec& p, const Vec& q, const Vec& a, const Vec& b, const Vec& c, double eps) {
+    auto orient = [&](const Vec& w, const Vec& x, const Vec& y, const Vec& z) {
+        const double v = dot(sub(x, w), cross(sub(y, w), sub(z, w)));
+        return v > eps ? 1 : v < -eps ? -1 : 0;
+    };
+    const int s1 = orient(a, b, c, p), s2 = orient(a, b, c, q);
+    if (s1 * s2 >= 0) return false;
+    const int u = orient(p, q, a, b), v = orient(p, q, b, c), w = orient(p, q, c, a);
+    return (u >= 0 && v >= 0 && w >= 0) || (u <= 0 && v <= 0 && w <= 0);
+}
+
+/// A point where an R-operation's edge curve crosses a face between two cells: a vertex of
+/// the mesh, shared by the two cells' patches. On a grid edge or a grid node (a solid's edge
+/// on the lattice) it lies on several faces; it goes into one segment of the cells' patch
+/// boundaries, chosen once for all cells, so the two cells of that segment's face take it.
+struct Crossing {
+    uint32_t vertex;   ///< its index among the positions
+    int operation;
+    uint64_t face;     ///< where it goes: the lower cell·3 + the face's axis (set by choose_segments)
+    std::pair<uint32_t, uint32_t> segment{UINT32_MAX, UINT32_MAX};  ///< the patch boundary segment it goes into
+    bool alive = true;
+    /// It is a marching-tetrahedra vertex already (a grid or face diagonal edge through the
+    /// curve), moved onto the curve exactly; every cell whose boundary holds it joins there.
+    bool on_mesh_vertex = false;
+};
+
+/// The sharp-feature pass: traces the edge curves cell to cell, puts a vertex where each
+/// crosses a cell face and one at each corner, and re-triangulates the cells they cross.
+class ChainBuilder {
 public:
-    Sharpener(const ir::Graph& graph, ir::NodeId root, const Grid& grid, Mesh& mesh)
+    ChainBuilder(const ir::Graph& graph, ir::NodeId root, const Grid& grid, Mesh& mesh)
         : field_(graph, root), mesh_(mesh) {
         const Axis* axes[3] = {&grid.x, &grid.y, &grid.z};
         for (int a = 0; a < 3; ++a) {
@@ -294,14 +362,19 @@ public:
             cells_[a] = axes[a]->nodes - 1;
         }
         positions_ = mesh.vertices;
-        removed_.assign(mesh.triangles.size(), 0);
+        normals_ = mesh.normals;
     }
 
     bool has_operations() const { return !field_.operations().empty(); }
 
+    std::array<uint64_t, 3> coords(uint64_t id) const {
+        return {id % uint64_t(cells_[0]), id / uint64_t(cells_[0]) % uint64_t(cells_[1]),
+                id / (uint64_t(cells_[0]) * uint64_t(cells_[1]))};
+    }
+    uint64_t stride(int a) const { return a == 0 ? 1 : a == 1 ? uint64_t(cells_[0]) : uint64_t(cells_[0]) * uint64_t(cells_[1]); }
+
     Cell cell_box(uint64_t id) const {
-        const uint64_t c[3] = {id % uint64_t(cells_[0]), id / uint64_t(cells_[0]) % uint64_t(cells_[1]),
-                               id / (uint64_t(cells_[0]) * uint64_t(cells_[1]))};
+        const auto c = coords(id);
         Cell cell;
         cell.h = 0;
         for (int a = 0; a < 3; ++a) {
@@ -312,26 +385,250 @@ public:
         return cell;
     }
 
-    /// The patch of cell `id` (its triangles `patch`) replaced by a fan, if the cell holds a
-    /// feature and every test passes.
-    /// `neighbour`: the cell is next to a feature cell, and is tried whatever its normals (an
-    /// edge that only clips a cell leaves it with a patch on one face).
-    bool try_cell(uint64_t id, const std::vector<uint32_t>& patch, bool neighbour, FeatureStats& stats) {
-        double lowest = 1;
+    /// Which cells have triangles (a patch): edges lying on the lattice may be joined only in
+    /// cells whose neighbours across that face or grid edge have none.
+    void set_patch_test(std::function<bool(uint64_t)> has_patch) { has_patch_ = std::move(has_patch); }
+
+    // ---- The lattice: points on grid planes (features on grid edges and nodes) --------------
+
+    double lattice_h() const { return std::max({step_[0], step_[1], step_[2]}); }
+
+    /// The grid plane index p[a] lies on within 1e-9 of a cell, or -1.
+    long plane_of(const Vec& p, int a) const {
+        const double k = std::round((p[a] - min_[a]) / step_[a]);
+        if (k < 0 || k > cells_[a]) return -1;
+        return std::fabs(min_[a] + k * step_[a] - p[a]) <= 1e-9 * lattice_h() ? long(k) : -1;
+    }
+
+    /// p with the coordinates that lie on a grid plane to round-off put exactly on it, so a
+    /// feature on a grid edge or node is shared exactly by the cells around it.
+    Vec snapped(Vec p) const {
+        for (int a = 0; a < 3; ++a) {
+            const long k = plane_of(p, a);
+            if (k >= 0) p[a] = min_[a] + double(k) * step_[a];
+        }
+        return p;
+    }
+
+    /// Per axis, the cell indices whose closed extent holds p[a] (two on an inner grid plane).
+    std::array<std::vector<uint64_t>, 3> cell_ranges(const Vec& p) const {
+        std::array<std::vector<uint64_t>, 3> r;
+        for (int a = 0; a < 3; ++a) {
+            const long k = plane_of(p, a);
+            if (k >= 0) {
+                if (k > 0) r[a].push_back(uint64_t(k - 1));
+                if (k < cells_[a]) r[a].push_back(uint64_t(k));
+            } else {
+                const double f = std::floor((p[a] - min_[a]) / step_[a]);
+                if (f >= 0 && f < cells_[a]) r[a].push_back(uint64_t(f));
+            }
+        }
+        return r;
+    }
+
+    /// The cells whose closed box holds p: one, or up to eight around a grid node.
+    std::vector<uint64_t> cells_around(const Vec& p) const {
+        const auto r = cell_ranges(p);
+        std::vector<uint64_t> out;
+        for (uint64_t z : r[2])
+            for (uint64_t y : r[1])
+                for (uint64_t x : r[0]) out.push_back(x + stride(1) * y + stride(2) * z);
+        return out;
+    }
+
+    /// The inner faces (lower cell·3 + axis) that hold p: one inside a face, up to twelve at a node.
+    std::vector<uint64_t> faces_around(const Vec& p) const {
+        const auto r = cell_ranges(p);
+        std::vector<uint64_t> out;
+        for (int a = 0; a < 3; ++a) {
+            if (r[a].size() != 2) continue;
+            const int b = (a + 1) % 3, c = (a + 2) % 3;
+            for (uint64_t i : r[b])
+                for (uint64_t j : r[c]) out.push_back((r[a][0] * stride(a) + i * stride(b) + j * stride(c)) * 3 + uint64_t(a));
+        }
+        return out;
+    }
+
+    /// Whether a new mesh edge of cell `id` lying on its faces `faces` (bits axis·2 + side)
+    /// is free: no other cell that holds that face or grid edge has triangles there.
+    bool boundary_edge_free(uint64_t id, int faces) const {
+        const auto c = coords(id);
+        std::vector<std::array<int, 3>> offsets{{0, 0, 0}};
+        for (int a = 0; a < 3; ++a)
+            for (int side = 0; side < 2; ++side) {
+                if (!(faces >> (2 * a + side) & 1)) continue;
+                const std::size_t n = offsets.size();
+                for (std::size_t i = 0; i < n; ++i) {
+                    auto o = offsets[i];
+                    o[a] = side ? 1 : -1;
+                    offsets.push_back(o);
+                }
+            }
+        for (const auto& o : offsets) {
+            if (o == std::array<int, 3>{0, 0, 0}) continue;
+            uint64_t other = 0;
+            bool inside = true;
+            for (int a = 0; a < 3; ++a) {
+                const long k = long(c[a]) + o[a];
+                if (k < 0 || k >= cells_[a]) inside = false;
+                else other += uint64_t(k) * stride(a);
+            }
+            if (inside && has_patch_ && has_patch_(other)) return false;
+        }
+        return true;
+    }
+
+    /// Phase 1, per cell with triangles: a cell whose normals disagree seeds the traces of the
+    /// edge curves through it, and may hold a corner.
+    void seed(uint64_t id, const std::vector<uint32_t>& patch, FeatureStats& stats) {
+        if (!normals_disagree(patch)) return;
+        ++stats.cells_tested;
+        const Cell cell = cell_box(id);
+        const std::vector<int> candidates = vanishing_operations(cell);
+        if (candidates.empty()) return;
+        if (candidates.size() >= 2) corner_cells_.push_back(id);
+        Vec seed{0, 0, 0};
+        std::size_t count = 0;
+        for (uint32_t t : patch)
+            for (uint32_t v : mesh_.triangles[t]) {
+                for (int a = 0; a < 3; ++a) seed[a] += mesh_.vertices[v][a];
+                ++count;
+            }
+        for (double& c : seed) c /= double(count);
+        const auto& ops = field_.operations();
+        for (int k : candidates) {
+            if (visited_.count(visit_key(id, k))) continue;
+            // The nearest point of the edge to the patch may lie outside the cell where the
+            // edge only clips it: then from that point pulled back into the cell, again.
+            Vec p = seed;
+            bool inside = false;
+            for (int round = 0; round < 4 && !inside; ++round) {
+                if (round > 0)
+                    for (int a = 0; a < 3; ++a) p[a] = std::clamp(p[a], cell.lo[a], cell.hi[a]);
+                if (!solve_feature(field_, {ops[k].a, ops[k].b}, 2, p, cell.h, 2 * cell.h)) break;
+                inside = cell.contains(p, 0);
+            }
+            p = snapped(p);
+            if (!inside || !on_boundary(p, k, cell.h)) continue;
+            const int plus = walk(k, id, p, 1), minus = walk(k, id, p, -1);
+            if (plus >= 0 && minus >= 0 && plus != minus) add_link(plus, minus);
+        }
+    }
+
+    /// Phase 2: corners, then each cell's patch re-triangulated through its feature vertices;
+    /// a cell that fails gives up its crossings and its neighbours are redone without them.
+    void build(const std::function<std::optional<std::vector<uint32_t>>(uint64_t)>& patch_of, FeatureStats& stats) {
+        for (uint64_t id : corner_cells_) find_corner(id);
+        for (uint64_t id : end_cells_) find_corner(id);
+        choose_segments(patch_of);
+        std::vector<uint64_t> queue;
+        for (const auto& [id, apex] : apex_) queue.push_back(id);
+        for (const Crossing& c : crossings_)
+            if (c.alive)
+                for (uint64_t id : cells_sharing(c)) queue.push_back(id);
+        std::sort(queue.begin(), queue.end());
+        queue.erase(std::unique(queue.begin(), queue.end()), queue.end());
+        std::set<uint64_t> pending(queue.begin(), queue.end());
+        while (!pending.empty()) {
+            const uint64_t id = *pending.begin();
+            pending.erase(pending.begin());
+            std::vector<Tri> triangles;
+            if (const auto group = groups_.find(id); group != groups_.end()) {
+                // A corner the cells around it share: one fan over their joined patches.
+                const std::vector<uint64_t> cells = group->second;
+                std::vector<uint32_t> joined;
+                bool all = true;
+                for (uint64_t g : cells) {
+                    const auto patch = patch_of(g);
+                    if (!patch) all = false;
+                    else joined.insert(joined.end(), patch->begin(), patch->end());
+                }
+                for (uint64_t g : cells) results_.erase(g);
+                if (all && build_cell(cells.front(), &joined, triangles, &cells)) {
+                    results_[cells.front()] = {std::move(joined), std::move(triangles)};
+                    continue;
+                }
+                for (uint64_t g : cells) {  // each on its own, without the corner
+                    groups_.erase(g);
+                    apex_.erase(g);
+                    pending.insert(g);
+                }
+                continue;
+            }
+            const std::optional<std::vector<uint32_t>> patch = patch_of(id);
+            if (build_cell(id, patch ? &*patch : nullptr, triangles)) {
+                if (patch && !triangles.empty()) results_[id] = {*patch, std::move(triangles)};
+                else results_.erase(id);
+                continue;
+            }
+            results_.erase(id);
+            if (apex_.erase(id)) {  // without its corner, the edges may still pass
+                pending.insert(id);
+                continue;
+            }
+            if (add_edge_apex(id)) {  // a fan from a point of the edge keeps the crossings
+                pending.insert(id);
+                continue;
+            }
+            for (int c : crossings_in(id)) {
+                crossings_[c].alive = false;
+                for (uint64_t other : cells_sharing(crossings_[c]))
+                    if (other != id) pending.insert(other);
+            }
+        }
+        std::set<uint32_t> used;
+        for (const auto& [id, result] : results_)
+            for (const Tri& t : result.second)
+                for (uint32_t v : t) used.insert(v);
+        for (const Crossing& c : crossings_) stats.edge_vertices += c.alive && used.count(c.vertex);
+        std::set<uint32_t> corners;
+        for (const auto& [id, apex] : apex_)
+            if (used.count(apex)) corners.insert(apex);
+        stats.corner_vertices = corners.size();
+        stats.chain_edges = chain_edges_;
+    }
+
+    /// The mesh with the re-triangulated patches and unused vertices dropped.
+    void finish() {
+        std::vector<char> removed(mesh_.triangles.size(), 0);
+        std::vector<Tri> triangles;
+        for (const auto& [id, result] : results_)
+            for (uint32_t t : result.first) removed[t] = 1;
+        for (std::size_t t = 0; t < mesh_.triangles.size(); ++t)
+            if (!removed[t]) triangles.push_back(mesh_.triangles[t]);
+        for (const auto& [id, result] : results_) triangles.insert(triangles.end(), result.second.begin(), result.second.end());
+        std::vector<uint32_t> renumber(positions_.size(), UINT32_MAX);
+        for (const Tri& t : triangles)
+            for (uint32_t v : t) renumber[v] = 0;
+        Mesh out;
+        for (std::size_t v = 0; v < positions_.size(); ++v) {
+            if (renumber[v] == UINT32_MAX) continue;
+            renumber[v] = uint32_t(out.vertices.size());
+            out.vertices.push_back(positions_[v]);
+            out.normals.push_back(normals_[v]);
+        }
+        for (Tri& t : triangles)
+            for (uint32_t& v : t) v = renumber[v];
+        out.triangles = std::move(triangles);
+        mesh_ = std::move(out);
+    }
+
+private:
+    /// Two of the patch's vertex normals more than ~26° apart.
+    bool normals_disagree(const std::vector<uint32_t>& patch) const {
         std::vector<uint32_t> vertices;
         for (uint32_t t : patch)
             for (uint32_t v : mesh_.triangles[t]) vertices.push_back(v);
         std::sort(vertices.begin(), vertices.end());
         vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
-        for (std::size_t i = 0; i < vertices.size() && lowest >= kFeatureCosine; ++i)
+        for (std::size_t i = 0; i < vertices.size(); ++i)
             for (std::size_t j = i + 1; j < vertices.size(); ++j)
-                lowest = std::min(lowest, dot(mesh_.normals[vertices[i]], mesh_.normals[vertices[j]]));
-        if (lowest >= kFeatureCosine && !neighbour) return false;
-        ++stats.cells_tested;
-        const Cell cell = cell_box(id);
-        const double margin = 1e-12 * cell.h;
+                if (dot(mesh_.normals[vertices[i]], mesh_.normals[vertices[j]]) < kFeatureCosine) return true;
+        return false;
+    }
 
-        // The operations whose two operands both reach zero in the cell.
+    /// The operations whose two operands both reach zero in the cell (first-order estimate).
+    std::vector<int> vanishing_operations(const Cell& cell) {
         Vec centre;
         for (int a = 0; a < 3; ++a) centre[a] = (cell.lo[a] + cell.hi[a]) / 2;
         const double half_diagonal = norm(sub(cell.hi, cell.lo)) / 2;
@@ -340,68 +637,387 @@ public:
             const double g = norm(field_.gradient(i));
             return std::isfinite(g) && std::fabs(field_.value(i)) <= kReachFactor * g * half_diagonal;
         };
-        std::vector<int> candidates;
+        std::vector<int> out;
         const auto& ops = field_.operations();
         for (std::size_t k = 0; k < ops.size(); ++k)
-            if (reaches_zero(ops[k].a) && reaches_zero(ops[k].b)) candidates.push_back(int(k));
-        if (candidates.empty()) return false;
+            if (reaches_zero(ops[k].a) && reaches_zero(ops[k].b)) out.push_back(int(k));
+        return out;
+    }
 
-        Vec seed{0, 0, 0};
-        for (uint32_t v : vertices)
-            for (int a = 0; a < 3; ++a) seed[a] += mesh_.vertices[v][a] / double(vertices.size());
-        auto on_model_boundary = [&](const Vec& p) {
+    /// The model is zero at p to round-off (the edge of operation `k` is on the surface there,
+    /// not hidden inside or outside by the operations above it).
+    bool on_boundary(const Vec& p, int k, double h) {
+        field_.at(p);
+        const auto& op = field_.operations()[k];
+        const double ga = norm(field_.gradient(op.a)), gb = norm(field_.gradient(op.b));
+        const double scale = 1 + (std::isfinite(ga) ? ga : 0) + (std::isfinite(gb) ? gb : 0);
+        return std::fabs(field_.value(0)) <= 1e-8 * h * scale;
+    }
+
+    static uint64_t visit_key(uint64_t cell, int k) { return cell * 4096 + uint64_t(k % 4096); }
+
+    std::array<uint64_t, 2> cells_of_face(uint64_t face) const {
+        const uint64_t lower = face / 3;
+        return {lower, lower + stride(int(face % 3))};
+    }
+
+    /// The cells whose boundary holds crossing c: those of its chosen face, or all around a
+    /// marching-tetrahedra vertex it is.
+    std::vector<uint64_t> cells_sharing(const Crossing& c) const {
+        if (c.on_mesh_vertex) return cells_around(positions_[c.vertex]);
+        const auto two = cells_of_face(c.face);
+        return {two[0], two[1]};
+    }
+
+    /// The crossings (alive) on the faces of cell `id`.
+    std::vector<int> crossings_in(uint64_t id) const {
+        std::vector<int> out;
+        const auto c = coords(id);
+        for (int a = 0; a < 3; ++a)
+            for (int side = 0; side < 2; ++side) {
+                if (side == 0 && c[a] == 0) continue;
+                const uint64_t face = (side == 0 ? id - stride(a) : id) * 3 + uint64_t(a);
+                const auto it = face_crossings_.find(face);
+                if (it == face_crossings_.end()) continue;
+                for (int x : it->second)
+                    if (crossings_[x].alive && (crossings_[x].face == face || crossings_[x].on_mesh_vertex)) out.push_back(x);
+            }
+        std::sort(out.begin(), out.end());
+        out.erase(std::unique(out.begin(), out.end()), out.end());
+        return out;
+    }
+
+    Vec edge_normal(const Vec& p, const std::vector<int>& equations) {
+        field_.at(p);
+        Vec n{0, 0, 0};
+        for (int e : equations) {
+            const Vec g = field_.gradient(e);
+            const double l = norm(g);
+            if (!(l > 0) || !finite(g)) continue;
+            for (int a = 0; a < 3; ++a) n[a] -= g[a] / l;
+        }
+        const double l = norm(n);
+        if (!(l > 0)) return {0, 0, 1};
+        return {n[0] / l, n[1] / l, n[2] / l};
+    }
+
+    /// The crossing of operation k's edge at q (on a face): an existing one there, or a new one
+    /// on every face that holds q.
+    std::pair<int, bool> crossing_at(int k, const Vec& q, double h) {
+        const std::vector<uint64_t> faces = faces_around(q);
+        for (uint64_t face : faces) {
+            const auto it = face_crossings_.find(face);
+            if (it == face_crossings_.end()) continue;
+            for (int x : it->second)
+                if (crossings_[x].operation == k && norm(sub(positions_[crossings_[x].vertex], q)) <= 1e-6 * h)
+                    return {x, true};
+        }
+        const auto& op = field_.operations()[k];
+        crossings_.push_back({uint32_t(positions_.size()), k, faces.empty() ? 0 : faces[0]});
+        positions_.push_back(q);
+        normals_.push_back(edge_normal(q, {op.a, op.b}));
+        for (uint64_t face : faces) face_crossings_[face].push_back(int(crossings_.size() - 1));
+        return {int(crossings_.size() - 1), false};
+    }
+
+    /// Joins crossings a and b in the cells that hold both (the one the curve passed, or, for
+    /// a piece along a grid edge, the cells around it that have triangles).
+    void add_link(int a, int b) {
+        const std::pair<int, int> link{std::min(a, b), std::max(a, b)};
+        std::vector<uint64_t> near = cells_around(positions_[crossings_[a].vertex]);
+        const std::vector<uint64_t> other = cells_around(positions_[crossings_[b].vertex]);
+        for (uint64_t cell : near) {
+            if (std::find(other.begin(), other.end(), cell) == other.end()) continue;
+            if (has_patch_ && !has_patch_(cell)) continue;
+            auto& list = links_[cell];
+            if (std::find(list.begin(), list.end(), link) == list.end()) list.push_back(link);
+        }
+    }
+
+    /// Follows operation k's edge curve from p (in `cell`, on the curve) along ±(∇a × ∇b),
+    /// a quarter cell per predictor step and Newton back onto the curve, recording where it
+    /// crosses cell faces and linking consecutive crossings in the cell between them. Stops
+    /// at a crossing already recorded (the curve is closed or met another trace), where the
+    /// curve leaves the surface (a corner: the cell is remembered), at the domain's faces, or
+    /// where the operands' gradients turn parallel. Returns the first crossing, or -1.
+    int walk(int k, uint64_t cell, Vec p, int direction) {
+        const auto& op = field_.operations()[k];
+        int first = -1, previous = -1;
+        visited_.insert(visit_key(cell, k));
+        int steps_here = 0;  // a curve that stays in one cell that long is a small loop
+        for (int steps = 0; steps < kMaxTraceSteps && ++steps_here <= kMaxStepsInCell; ++steps) {
+            const Cell box = cell_box(cell);
+            const double h = box.h;
             field_.at(p);
-            double scale = 1;
-            for (int k : candidates) {
-                const double ga = norm(field_.gradient(ops[k].a)), gb = norm(field_.gradient(ops[k].b));
-                scale += (std::isfinite(ga) ? ga : 0) + (std::isfinite(gb) ? gb : 0);
-            }
-            return std::fabs(field_.value(0)) <= 1e-8 * cell.h * scale;
-        };
-        const double reach = 2 * cell.h;
-        Vec point{};
-        std::vector<int> meeting, used;
-        bool found = false, corner = false;
-        if (candidates.size() >= 2) {  // a corner: three independent operands vanish together
-            std::vector<int> equations, later;
-            for (int k : candidates)
-                for (int e : {ops[k].a, ops[k].b}) {
-                    std::vector<int>& list = field_.operation_of(e) >= 0 ? later : equations;
-                    if (std::find(list.begin(), list.end(), e) == list.end()) list.push_back(e);
+            const Vec ga = field_.gradient(op.a), gb = field_.gradient(op.b);
+            const Vec t = cross(ga, gb);
+            const double lt = norm(t);
+            if (!(lt > kIndependence * norm(ga) * norm(gb)) || !finite(t)) break;
+            Vec next = p;
+            for (int a = 0; a < 3; ++a) next[a] += double(direction) * 0.25 * h * t[a] / lt;
+            if (!solve_feature(field_, {op.a, op.b}, 2, next, h, h)) break;
+            next = snapped(next);  // a curve along a grid edge stays on it, in the cell
+            if (norm(sub(next, p)) < 0.01 * h) break;
+            if (box.contains(next, 0)) {
+                if (!on_boundary(next, k, h)) {
+                    end_cells_.insert(cell);
+                    return first;
                 }
-            equations.insert(equations.end(), later.begin(), later.end());
-            Vec p = seed;
-            if (solve_feature(field_, equations, 3, p, cell.h, reach) && cell.contains(p, margin) &&
-                on_model_boundary(p)) {
-                point = p, meeting = candidates, used = equations, found = corner = true;
+                p = next;
+                continue;
             }
-        }
-        if (!found) {  // an edge: one operation's operands vanish together (one curve only)
-            for (int k : candidates) {
-                // The nearest point of the edge to the patch may lie outside the cell where the
-                // edge only clips it: then from that point pulled back into the cell, again.
-                Vec p = seed;
-                bool inside = false;
-                for (int round = 0; round < 4 && !inside; ++round) {
-                    if (round > 0)
-                        for (int a = 0; a < 3; ++a) p[a] = std::clamp(p[a], cell.lo[a], cell.hi[a]);
-                    if (!solve_feature(field_, {ops[k].a, ops[k].b}, 2, p, cell.h, reach)) break;
-                    inside = cell.contains(p, margin);
+            // Left the cell: the face planes the step passes, nearest first, and the exact
+            // crossing on the first one the curve goes through.
+            std::vector<std::tuple<double, int, int>> exits;  // (fraction of the step, axis, side)
+            for (int a = 0; a < 3; ++a) {
+                if (next[a] > box.hi[a]) exits.emplace_back((box.hi[a] - p[a]) / (next[a] - p[a]), a, 1);
+                if (next[a] < box.lo[a]) exits.emplace_back((box.lo[a] - p[a]) / (next[a] - p[a]), a, 0);
+            }
+            std::sort(exits.begin(), exits.end());
+            bool crossed = false, ends = false;
+            int axis = 0, side = 0;
+            Vec q{};
+            for (const auto& [fraction, a, s] : exits) {
+                Vec x = p;
+                for (int b = 0; b < 3; ++b) x[b] += fraction * (next[b] - p[b]);
+                const double plane = s ? box.hi[a] : box.lo[a];
+                if (!solve_feature(field_, {op.a, op.b}, 2, x, h, h, a, plane)) continue;
+                x = snapped(x);  // on a grid edge or node: exactly there, for every cell around it
+                bool on_face = true;
+                for (int b = 0; b < 3; ++b)
+                    if (b != a && (x[b] < box.lo[b] || x[b] > box.hi[b])) on_face = false;
+                if (!on_face) continue;
+                if (!on_boundary(x, k, h)) {
+                    ends = true;
+                    break;
                 }
-                if (!inside || !on_model_boundary(p)) continue;
-                if (found && norm(sub(p, point)) > 1e-9 * cell.h) return false;  // two curves: not one feature
-                if (!found) point = p, used = {ops[k].a, ops[k].b};
-                found = true;
-                meeting.push_back(k);
+                crossed = true, axis = a, side = s, q = x;
+                break;
             }
-            if (!found) return false;
+            if (ends) {
+                end_cells_.insert(cell);
+                return first;
+            }
+            if (!crossed) break;
+            const auto c = coords(cell);
+            if (side == 0 ? c[axis] == 0 : c[axis] + 1 >= uint64_t(cells_[axis])) break;  // the domain's face
+            // The cell the curve enters: across the face, and across each other face q lies on
+            // (a crossing at a grid edge or node) that the curve leaves by; a curve running in
+            // a grid plane stays on the side it came from.
+            std::array<long, 3> to{long(c[0]), long(c[1]), long(c[2])};
+            to[axis] += side ? 1 : -1;
+            field_.at(q);
+            const Vec tangent = cross(field_.gradient(op.a), field_.gradient(op.b));
+            const double length = norm(tangent);
+            bool leaves_domain = false;
+            for (int b = 0; b < 3; ++b) {
+                if (b == axis) continue;
+                const double along = direction * tangent[b];
+                if (q[b] == box.lo[b] && along < -1e-6 * length) --to[b];
+                if (q[b] == box.hi[b] && along > 1e-6 * length) ++to[b];
+                leaves_domain |= to[b] < 0 || to[b] >= cells_[b];
+            }
+            if (leaves_domain) break;
+            const uint64_t neighbour = uint64_t(to[0]) + stride(1) * uint64_t(to[1]) + stride(2) * uint64_t(to[2]);
+            const auto [id, existed] = crossing_at(k, q, h);
+            if (previous >= 0) add_link(previous, id);
+            else if (first < 0) first = id;
+            if (existed) return first;
+            cell = neighbour;
+            previous = id;
+            p = q;
+            steps_here = 0;
+            visited_.insert(visit_key(cell, k));
         }
+        return first;
+    }
 
-        // The patch must be a disc whose inner vertices (on the cell's main diagonal) only
-        // it uses; its boundary is then one loop on the cell's faces.
+    /// A corner in cell `id`: three independent operands of the operations that vanish there
+    /// are zero together, inside the cell and on the surface.
+    void find_corner(uint64_t id) {
+        if (apex_.count(id) || tried_corner_.count(id)) return;
+        tried_corner_.insert(id);
+        const Cell cell = cell_box(id);
+        const std::vector<int> candidates = vanishing_operations(cell);
+        if (candidates.size() < 2) return;
+        const auto& ops = field_.operations();
+        std::vector<int> equations, later;
+        for (int k : candidates)
+            for (int e : {ops[k].a, ops[k].b}) {
+                std::vector<int>& list = field_.operation_of(e) >= 0 ? later : equations;
+                if (std::find(list.begin(), list.end(), e) == list.end()) list.push_back(e);
+            }
+        equations.insert(equations.end(), later.begin(), later.end());
+        Vec p;
+        for (int a = 0; a < 3; ++a) p[a] = (cell.lo[a] + cell.hi[a]) / 2;
+        if (!solve_feature(field_, equations, 3, p, cell.h, 2 * cell.h) || !cell.contains(p, 1e-9 * cell.h)) return;
+        p = snapped(p);
+        if (!cell.contains(p, 1e-12 * cell.h)) return;
+        bool on_surface = false;
+        for (int k : candidates) on_surface |= on_boundary(p, k, cell.h);
+        if (!on_surface) return;
+        // On a grid face, edge or node the corner belongs to every cell around it that has
+        // triangles (one vertex for all); a traced edge's crossing there is the corner itself.
+        uint32_t vertex = UINT32_MAX;
+        for (const auto& [other, apex] : apex_)
+            if (norm(sub(positions_[apex], p)) <= 1e-9 * cell.h) vertex = apex;
+        for (uint64_t face : faces_around(p)) {
+            const auto it = face_crossings_.find(face);
+            if (it == face_crossings_.end()) continue;
+            for (int x : it->second)
+                if (norm(sub(positions_[crossings_[x].vertex], p)) <= 1e-9 * cell.h) crossings_[x].alive = false;
+        }
+        std::vector<uint64_t> cells;
+        for (uint64_t at : cells_around(p)) {
+            if (apex_.count(at) || (has_patch_ && !has_patch_(at))) continue;
+            if (vertex == UINT32_MAX) {
+                vertex = uint32_t(positions_.size());
+                positions_.push_back(p);
+                normals_.push_back(edge_normal(p, equations));
+            }
+            apex_[at] = vertex;
+            apex_equations_[at] = equations;
+            tried_corner_.insert(at);
+            cells.push_back(at);
+        }
+        if (cells.size() > 1)
+            for (uint64_t at : cells) groups_[at] = cells;
+    }
+
+    /// For a cell whose crossings cannot be joined by edges (the boundary split along them
+    /// folds, or a corner on a face two cells mesh could not be fanned): a fan from a point of
+    /// the edge curve in the cell (Newton from its crossings' mean), so the crossings stay and
+    /// the neighbours keep theirs; a failed cell would otherwise undo the whole chain, cell
+    /// after cell. Tried once per cell; false if there is no such point.
+    bool add_edge_apex(uint64_t id) {
+        if (!edge_apex_tried_.insert(id).second) return false;
+        const std::vector<int> crossings = crossings_in(id);
+        if (crossings.empty()) return false;
+        std::map<int, int> count;
+        for (int x : crossings) ++count[crossings_[x].operation];
+        const int k = std::max_element(count.begin(), count.end(), [](const auto& a, const auto& b) {
+                          return a.second < b.second;
+                      })->first;
+        const Cell cell = cell_box(id);
+        Vec p{0, 0, 0};
+        for (int x : crossings)
+            if (crossings_[x].operation == k)
+                for (int a = 0; a < 3; ++a) p[a] += positions_[crossings_[x].vertex][a] / count[k];
+        if (count[k] == 1)  // one crossing: from halfway to the cell's centre, not onto the crossing
+            for (int a = 0; a < 3; ++a) p[a] = (p[a] + (cell.lo[a] + cell.hi[a]) / 2) / 2;
+        const auto& op = field_.operations()[k];
+        std::vector<int> equations{op.a, op.b};
+        const Vec start = p;
+        bool found = solve_feature(field_, equations, 2, p, cell.h, 2 * cell.h) && cell.contains(p, 1e-9 * cell.h);
+        if (found) {
+            p = snapped(p);
+            found = cell.contains(p, 0) && on_boundary(p, k, cell.h);
+        }
+        if (!found) {
+            // The curve only touches the cell (through a grid node or along a grid edge of it):
+            // a point of the surface instead, Newton along the gradient from the cell's middle.
+            equations = {0};
+            for (int a = 0; a < 3; ++a) p[a] = (start[a] + (cell.lo[a] + cell.hi[a]) / 2) / 2;
+            for (int iteration = 0; iteration < 40 && !found; ++iteration) {
+                field_.at(p);
+                const Vec g = field_.gradient(0);
+                const double g2 = dot(g, g), f = field_.value(0);
+                if (!(g2 > 0) || !std::isfinite(f) || !finite(g)) return false;
+                for (int a = 0; a < 3; ++a) p[a] -= f * g[a] / g2;
+                found = std::fabs(f) / std::sqrt(g2) <= 1e-12 * cell.h;
+            }
+            if (!found || !cell.contains(p, -1e-3 * cell.h)) return false;
+        }
+        for (int x : crossings)
+            if (norm(sub(positions_[crossings_[x].vertex], p)) < 1e-3 * cell.h) return false;
+        apex_[id] = uint32_t(positions_.size());
+        positions_.push_back(p);
+        normals_.push_back(edge_normal(p, equations));
+        apex_equations_[id] = equations;
+        return true;
+    }
+
+    /// Where each crossing goes: of the boundary segments of the patches around it that lie on
+    /// a face holding it, the nearest, ties broken by the segments' vertices, the same for
+    /// every cell. A crossing with none within a cell dies.
+    void choose_segments(const std::function<std::optional<std::vector<uint32_t>>(uint64_t)>& patch_of) {
+        std::map<uint64_t, std::optional<std::vector<uint32_t>>> rings;
+        auto ring_of = [&](uint64_t id) -> const std::optional<std::vector<uint32_t>>& {
+            auto it = rings.find(id);
+            if (it != rings.end()) return it->second;
+            std::optional<std::vector<uint32_t>> ring;
+            if (const auto patch = patch_of(id)) {
+                std::vector<uint32_t> loop;
+                if (boundary_loop(*patch, cell_box(id), loop)) ring = std::move(loop);
+            }
+            return rings.emplace(id, std::move(ring)).first->second;
+        };
+        for (Crossing& x : crossings_) {
+            if (!x.alive) continue;
+            const Vec& q = positions_[x.vertex];
+            struct Candidate {
+                double distance;
+                std::pair<uint32_t, uint32_t> segment;
+                uint64_t face;
+            };
+            std::vector<Candidate> candidates;
+            double h = 0;
+            for (uint64_t id : cells_around(q)) {
+                const auto& ring = ring_of(id);
+                if (!ring) continue;
+                const Cell cell = cell_box(id);
+                h = cell.h;
+                const double tolerance = 1e-9 * cell.h;
+                const auto c = coords(id);
+                const std::size_t n = ring->size();
+                for (int axis = 0; axis < 3; ++axis)
+                    for (int side = 0; side < 2; ++side) {
+                        const double plane = side ? cell.hi[axis] : cell.lo[axis];
+                        if (q[axis] != plane) continue;
+                        if (side == 0 ? c[axis] == 0 : c[axis] + 1 >= uint64_t(cells_[axis])) continue;
+                        const uint64_t face = (side ? id : id - stride(axis)) * 3 + uint64_t(axis);
+                        for (std::size_t i = 0; i < n; ++i) {
+                            const uint32_t a = std::min((*ring)[i], (*ring)[(i + 1) % n]),
+                                           b = std::max((*ring)[i], (*ring)[(i + 1) % n]);
+                            const Vec &u = positions_[a], &v = positions_[b];
+                            if (std::fabs(u[axis] - plane) > tolerance || std::fabs(v[axis] - plane) > tolerance) continue;
+                            const Vec d = sub(v, u);
+                            const double s = std::clamp(dot(sub(q, u), d) / dot(d, d), 0.0, 1.0);
+                            candidates.push_back({norm(sub(q, {u[0] + s * d[0], u[1] + s * d[1], u[2] + s * d[2]})), {a, b}, face});
+                        }
+                    }
+            }
+            double nearest = std::numeric_limits<double>::infinity();
+            for (const Candidate& c : candidates) nearest = std::min(nearest, c.distance);
+            // At a marching-tetrahedra vertex to within 1e-6 of a cell (Newton along its edge
+            // stops at 1e-7 of it): that vertex is the crossing, moved exactly onto the curve.
+            uint32_t at_vertex = UINT32_MAX;
+            double closest = 1e-6 * h;
+            for (const Candidate& c : candidates)
+                for (uint32_t v : {c.segment.first, c.segment.second})
+                    if (norm(sub(positions_[v], q)) <= closest) closest = norm(sub(positions_[v], q)), at_vertex = v;
+            if (at_vertex != UINT32_MAX) {
+                positions_[at_vertex] = q;
+                x.vertex = at_vertex;
+                x.on_mesh_vertex = true;
+                continue;
+            }
+            x.segment = {UINT32_MAX, UINT32_MAX};
+            for (const Candidate& c : candidates)
+                if (c.distance <= nearest + 1e-9 * h && c.segment < x.segment) x.segment = c.segment, x.face = c.face;
+            if (candidates.empty() || nearest > h) x.alive = false;
+        }
+    }
+
+    /// The boundary loop of a patch that is a disc, its inner vertices inside the cell.
+    bool boundary_loop(const std::vector<uint32_t>& patch, const Cell& cell, std::vector<uint32_t>& loop) const {
         std::map<std::pair<uint32_t, uint32_t>, int> directed;
+        std::set<uint32_t> vertices;
         for (uint32_t t : patch)
-            for (int k = 0; k < 3; ++k) ++directed[{mesh_.triangles[t][k], mesh_.triangles[t][(k + 1) % 3]}];
+            for (int k = 0; k < 3; ++k) {
+                ++directed[{mesh_.triangles[t][k], mesh_.triangles[t][(k + 1) % 3]}];
+                vertices.insert(mesh_.triangles[t][k]);
+            }
         std::map<uint32_t, uint32_t> next;
         std::size_t undirected = 0;
         for (const auto& [e, n] : directed) {
@@ -413,8 +1029,8 @@ public:
             ++undirected;
             if (!next.emplace(e.first, e.second).second) return false;  // the boundary touches itself
         }
-        if (long(vertices.size()) - long(undirected) + long(patch.size()) != 1) return false;
-        std::vector<uint32_t> loop{next.begin()->first};
+        if (next.empty() || long(vertices.size()) - long(undirected) + long(patch.size()) != 1) return false;
+        loop.assign(1, next.begin()->first);
         while (loop.size() <= next.size()) {
             const auto it = next.find(loop.back());
             if (it == next.end()) return false;
@@ -424,225 +1040,294 @@ public:
         if (loop.size() != next.size()) return false;
         for (uint32_t v : vertices)
             if (!next.count(v) && !cell.contains(mesh_.vertices[v], -1e-9 * cell.h)) return false;
-
-        // Directions to look along: the mean of the feature's faces' outward normals (the
-        // operands' unit gradients, turned to the patch's side), else the patch's mean normal.
-        Vec patch_normal{0, 0, 0};
-        for (uint32_t t : patch) {
-            const Tri& tri = mesh_.triangles[t];
-            const Vec n = cross(sub(mesh_.vertices[tri[1]], mesh_.vertices[tri[0]]),
-                                sub(mesh_.vertices[tri[2]], mesh_.vertices[tri[0]]));
-            for (int a = 0; a < 3; ++a) patch_normal[a] += n[a];
-        }
-        // The faces' outward normals (turned to the patch's side), their sum and the sums of
-        // two: a corner's star can be a graph along one face's normal and not along the mean.
-        std::vector<Vec> normals, directions;
-        field_.at(point);
-        std::vector<int> chosen;
-        if (choose_independent(field_, used, corner ? 3 : 2, chosen))
-            for (int e : chosen) {
-                const Vec g = field_.gradient(e);
-                normals.push_back({-g[0] / norm(g), -g[1] / norm(g), -g[2] / norm(g)});
-            }
-        Vec faces{0, 0, 0};
-        for (const Vec& n : normals)
-            for (int a = 0; a < 3; ++a) faces[a] += n[a];
-        const double turn = dot(faces, patch_normal) < 0 ? -1 : 1;
-        auto add_direction = [&](Vec d) {
-            const double length = norm(d);
-            if (!(length > 0)) return;
-            for (double& c : d) c *= turn / length;
-            directions.push_back(d);
-        };
-        add_direction(faces);
-        for (std::size_t i = 0; i < normals.size(); ++i) {
-            add_direction(normals[i]);
-            for (std::size_t j = i + 1; normals.size() > 2 && j < normals.size(); ++j)
-                add_direction({normals[i][0] + normals[j][0], normals[i][1] + normals[j][1], normals[i][2] + normals[j][2]});
-        }
-        add_direction({patch_normal[0] * turn, patch_normal[1] * turn, patch_normal[2] * turn});
-        const uint32_t apex = uint32_t(positions_.size());
-        positions_.push_back(point);
-        std::vector<Tri> star;
-        for (std::size_t i = 0; i < loop.size(); ++i) star.push_back({apex, loop[i], loop[(i + 1) % loop.size()]});
-        Vec direction{0, 0, 0};
-        bool graph = false;
-        graph = graph_direction(star, apex, positions_, directions, cell.h, direction);
-        if (!graph) {
-            positions_.pop_back();
-            return false;
-        }
-        Fan fan{id, apex, point, direction, std::move(directions), meeting, {}};
-        for (const Tri& t : star) {
-            fan.triangles.push_back(new_triangles_.size());
-            new_triangles_.push_back(t);
-            alive_.push_back(1);
-        }
-        for (uint32_t t : patch) removed_[t] = 1;
-        (corner ? stats.corner_vertices : stats.edge_vertices) += 1;
-        fan_at_[id] = fans_.size();
-        fans_.push_back(std::move(fan));
         return true;
     }
 
-    /// Joins the feature vertices of fans `a` and `b` (b the next cell along `axis`) by
-    /// flipping the fan triangles on their shared face's piece of boundary.
-    bool try_join(std::size_t ia, std::size_t ib, int axis) {
-        Fan& A = fans_[ia];
-        Fan& B = fans_[ib];
-        bool shared = false;
-        for (int k : A.operations) shared |= std::find(B.operations.begin(), B.operations.end(), k) != B.operations.end();
-        if (!shared) return false;
-        const Cell ca = cell_box(A.cell);
-        const double plane = ca.hi[axis], tolerance = 1e-9 * ca.h;
-        auto on_face = [&](uint32_t v, bool strictly) {
-            if (v >= mesh_.vertices.size()) return false;  // a feature vertex
-            const Vec& p = positions_[v];
-            if (std::fabs(p[axis] - plane) > tolerance) return false;
-            for (int a = 0; a < 3; ++a) {
-                if (a == axis) continue;
-                if (strictly ? (p[a] <= ca.lo[a] + tolerance || p[a] >= ca.hi[a] - tolerance)
-                             : (p[a] < ca.lo[a] - tolerance || p[a] > ca.hi[a] + tolerance))
-                    return false;
-            }
-            return true;
-        };
-        // A's run on the face: its star's triangles (A, u, v) with u, v on it, in one chain.
-        std::map<uint32_t, std::pair<uint32_t, std::size_t>> run;  // u → (v, triangle)
-        for (std::size_t t : A.triangles) {
-            if (!alive_[t]) continue;
-            const Tri r = rotate_to(new_triangles_[t], A.vertex);
-            if (on_face(r[1], false) && on_face(r[2], false)) run[r[1]] = {r[2], t};
-        }
-        if (run.empty()) return false;
-        std::map<uint32_t, int> incoming;
-        for (const auto& [u, vt] : run) ++incoming[vt.first];
-        uint32_t start = 0;
-        int starts = 0;
-        for (const auto& [u, vt] : run)
-            if (!incoming.count(u)) start = u, ++starts;
-        if (starts != 1) return false;
-        std::vector<uint32_t> chain{start};
-        std::vector<std::size_t> removed;
-        while (run.count(chain.back())) {
-            const auto [v, t] = run[chain.back()];
-            removed.push_back(t);
-            chain.push_back(v);
-            if (chain.size() > run.size() + 1) return false;
-        }
-        if (removed.size() != run.size()) return false;
-        for (std::size_t i = 1; i + 1 < chain.size(); ++i)
-            if (!on_face(chain[i], true)) return false;  // shared with cells beyond A and B
-        // B's star must hold the same run backwards.
-        for (std::size_t i = 0; i + 1 < chain.size(); ++i) {
-            bool seen = false;
-            for (std::size_t t : B.triangles)
-                if (alive_[t] && rotate_to(new_triangles_[t], B.vertex) == Tri{B.vertex, chain[i + 1], chain[i]}) {
-                    removed.push_back(t);
-                    seen = true;
-                    break;
+    /// The polygon `poly` (a closed loop of vertex indices) cut into triangles of least total
+    /// area, with no triangle edge across one of the cell's faces (it would lie in the plane
+    /// the neighbour's patch meets) and none degenerate; then checked to be a graph over the
+    /// plane across its mean normal (its triangles keep their orientation there and its
+    /// boundary does not cross itself), so it cannot fold or cross itself.
+    bool triangulate(const std::vector<uint32_t>& poly, const Cell& cell, std::vector<Tri>& out) const {
+        const int n = int(poly.size());
+        if (n < 3 || n > 64) return false;
+        const double h = cell.h, tolerance = 1e-9 * h;
+        std::vector<int> faces(n);
+        for (int i = 0; i < n; ++i) faces[i] = cell.faces_of(positions_[poly[i]], tolerance);
+        auto diagonal_ok = [&](int i, int j) { return (faces[i] & faces[j]) == 0; };
+        const double inf = std::numeric_limits<double>::infinity();
+        std::vector<double> cost(n * n, 0);
+        std::vector<int> best(n * n, -1);
+        for (int length = 2; length < n; ++length)
+            for (int i = 0; i + length < n; ++i) {
+                const int j = i + length;
+                double c = inf;
+                if (!(i == 0 && j == n - 1) && !diagonal_ok(i, j)) {
+                    cost[i * n + j] = inf;
+                    continue;
                 }
-            if (!seen) return false;
+                for (int k = i + 1; k < j; ++k) {
+                    const double sides = cost[i * n + k] + cost[k * n + j];
+                    const Vec normal = cross(sub(positions_[poly[k]], positions_[poly[i]]),
+                                             sub(positions_[poly[j]], positions_[poly[i]]));
+                    const double area = norm(normal) / 2;
+                    if (!(area >= kMinChainArea * h * h) || !(sides + area < c)) continue;
+                    c = sides + area;
+                    best[i * n + j] = k;
+                }
+                cost[i * n + j] = c;
+            }
+        if (!(cost[n - 1] < inf)) return false;
+        std::vector<Tri> triangles;
+        std::vector<std::pair<int, int>> stack{{0, n - 1}};
+        while (!stack.empty()) {
+            const auto [i, j] = stack.back();
+            stack.pop_back();
+            if (j - i < 2) continue;
+            const int k = best[i * n + j];
+            triangles.push_back({poly[i], poly[k], poly[j]});
+            stack.push_back({i, k});
+            stack.push_back({k, j});
         }
-        const Tri first{A.vertex, chain.front(), B.vertex}, second{B.vertex, chain.back(), A.vertex};
-        Vec direction;
-        for (int a = 0; a < 3; ++a) direction[a] = A.direction[a] + B.direction[a];
-        const double length = norm(direction);
+        // The mean normal (Newell's), and the plane across it.
+        Vec normal{0, 0, 0};
+        for (int i = 0; i < n; ++i) {
+            const Vec c = cross(positions_[poly[i]], positions_[poly[(i + 1) % n]]);
+            for (int a = 0; a < 3; ++a) normal[a] += c[a];
+        }
+        const double length = norm(normal);
         if (!(length > 0)) return false;
-        for (double& c : direction) c /= length;
-        auto star_after = [&](const Fan& f) {
-            std::vector<Tri> star;
-            for (std::size_t t : f.triangles)
-                if (alive_[t] && std::find(removed.begin(), removed.end(), t) == removed.end())
-                    star.push_back(rotate_to(new_triangles_[t], f.vertex));
-            star.push_back(rotate_to(first, f.vertex));
-            star.push_back(rotate_to(second, f.vertex));
-            return star;
-        };
-        // Each star a graph along the pair's mean direction or its own.
-        auto graph = [&](const Fan& f) {
-            const std::vector<Tri> star = star_after(f);
-            std::vector<Vec> tries{direction};
-            for (const Fan* g : {&A, &B}) tries.insert(tries.end(), g->directions.begin(), g->directions.end());
-            Vec unused;
-            return graph_direction(star, f.vertex, positions_, tries, ca.h, unused);
-        };
-        if (!graph(A) || !graph(B))
-            return false;
-        for (std::size_t t : removed) alive_[t] = 0;
-        for (const Tri& t : {first, second}) {
-            A.triangles.push_back(new_triangles_.size());
-            B.triangles.push_back(new_triangles_.size());
-            new_triangles_.push_back(t);
-            alive_.push_back(1);
+        for (double& c : normal) c /= length;
+        for (const Tri& t : triangles) {
+            const Vec tn = cross(sub(positions_[t[1]], positions_[t[0]]), sub(positions_[t[2]], positions_[t[0]]));
+            if (!(dot(tn, normal) / 2 >= kMinChainProjectedArea * h * h)) return false;
         }
+        const Vec helper = std::fabs(normal[0]) < 0.6 ? Vec{1, 0, 0} : Vec{0, 1, 0};
+        Vec e1 = cross(normal, helper);
+        const double l1 = norm(e1);
+        for (double& c : e1) c /= l1;
+        const Vec e2 = cross(normal, e1);
+        std::vector<std::array<double, 2>> flat(n);
+        for (int i = 0; i < n; ++i) flat[i] = {dot(positions_[poly[i]], e1), dot(positions_[poly[i]], e2)};
+        for (int i = 0; i < n; ++i)
+            for (int j = i + 2; j < n; ++j) {
+                if (i == 0 && j == n - 1) continue;
+                if (segments_cross_2d(flat[i], flat[(i + 1) % n], flat[j], flat[(j + 1) % n], 1e-12 * h * h)) return false;
+            }
+        out.insert(out.end(), triangles.begin(), triangles.end());
         return true;
     }
 
-    /// The cells sharing a face with cell `id`.
-    std::vector<uint64_t> face_neighbours(uint64_t id) const {
-        const uint64_t c[3] = {id % uint64_t(cells_[0]), id / uint64_t(cells_[0]) % uint64_t(cells_[1]),
-                               id / (uint64_t(cells_[0]) * uint64_t(cells_[1]))};
-        const uint64_t stride[3] = {1, uint64_t(cells_[0]), uint64_t(cells_[0]) * uint64_t(cells_[1])};
-        std::vector<uint64_t> out;
-        for (int a = 0; a < 3; ++a) {
-            if (c[a] > 0) out.push_back(id - stride[a]);
-            if (c[a] + 1 < uint64_t(cells_[a])) out.push_back(id + stride[a]);
+    /// Cell `id`'s patch with its crossings put on its boundary and cut along its feature
+    /// edges (the traced links, or the spokes from its corner). False if any test fails.
+    bool build_cell(uint64_t id, const std::vector<uint32_t>* patch, std::vector<Tri>& out,
+                    const std::vector<uint64_t>* group = nullptr) {
+        std::vector<int> crossings = crossings_in(id);
+        const auto apex_it = apex_.find(id);
+        Cell cell = cell_box(id);
+        if (group) {
+            // The cells' joined box; crossings on the faces between them are inside the fan.
+            for (uint64_t g : *group) {
+                const Cell other = cell_box(g);
+                for (int a = 0; a < 3; ++a) cell.lo[a] = std::min(cell.lo[a], other.lo[a]), cell.hi[a] = std::max(cell.hi[a], other.hi[a]);
+                const std::vector<int> more = crossings_in(g);
+                crossings.insert(crossings.end(), more.begin(), more.end());
+            }
+            std::sort(crossings.begin(), crossings.end());
+            crossings.erase(std::unique(crossings.begin(), crossings.end()), crossings.end());
+            std::erase_if(crossings, [&](int x) {
+                if (crossings_[x].on_mesh_vertex) return false;
+                const auto two = cells_of_face(crossings_[x].face);
+                return std::find(group->begin(), group->end(), two[0]) != group->end() &&
+                       std::find(group->begin(), group->end(), two[1]) != group->end();
+            });
+            if (apex_it == apex_.end()) return false;
         }
-        return out;
-    }
+        if (crossings.empty() && apex_it == apex_.end()) return true;  // nothing to change
+        if (!patch) return false;
+        const double h = cell.h, tolerance = 1e-9 * h;
+        std::vector<uint32_t> loop;
+        if (!boundary_loop(*patch, cell, loop)) return false;
+        const std::size_t n = loop.size();
 
-    void join_all(FeatureStats& stats) {
-        for (std::size_t i = 0; i < fans_.size(); ++i) {
-            const uint64_t id = fans_[i].cell;
-            const uint64_t c[3] = {id % uint64_t(cells_[0]), id / uint64_t(cells_[0]) % uint64_t(cells_[1]),
-                                   id / (uint64_t(cells_[0]) * uint64_t(cells_[1]))};
-            const uint64_t stride[3] = {1, uint64_t(cells_[0]), uint64_t(cells_[0]) * uint64_t(cells_[1])};
-            for (int axis = 0; axis < 3; ++axis) {
-                if (c[axis] + 1 >= uint64_t(cells_[axis])) continue;
-                const auto it = fan_at_.find(id + stride[axis]);
-                if (it != fan_at_.end() && try_join(i, it->second, axis)) ++stats.joined_faces;
+        // Each crossing goes into the boundary segment chosen for it (choose_segments).
+        std::vector<int> insert(n, -1);
+        for (int x : crossings) {
+            if (crossings_[x].on_mesh_vertex) continue;
+            std::size_t at = n;
+            for (std::size_t i = 0; i < n; ++i)
+                if (std::pair{std::min(loop[i], loop[(i + 1) % n]), std::max(loop[i], loop[(i + 1) % n])} ==
+                    crossings_[x].segment)
+                    at = i;
+            if (at == n || insert[at] >= 0) return false;
+            insert[at] = x;
+        }
+        // The face's boundary with the crossings in must not cross itself (the neighbour sees it).
+        for (std::size_t i = 0; i < n; ++i) {
+            if (insert[i] < 0) continue;
+            const int axis = int(crossings_[insert[i]].face % 3);
+            const Vec& q = positions_[crossings_[insert[i]].vertex];
+            const int u = axis == 0 ? 1 : 0, w = axis == 2 ? 1 : 2;
+            auto flat = [&](const Vec& p) { return std::array<double, 2>{p[u], p[w]}; };
+            const Vec &a = positions_[loop[i]], &b = positions_[loop[(i + 1) % n]];
+            for (std::size_t j = 0; j < n; ++j) {
+                if (j == i) continue;
+                const Vec &c = positions_[loop[j]], &d = positions_[loop[(j + 1) % n]];
+                if (std::fabs(c[axis] - q[axis]) > tolerance || std::fabs(d[axis] - q[axis]) > tolerance) continue;
+                std::vector<Vec> pieces{c, d};
+                if (insert[j] >= 0) pieces = {c, positions_[crossings_[insert[j]].vertex], d};
+                for (std::size_t p = 0; p + 1 < pieces.size(); ++p)
+                    if (segments_cross_2d(flat(a), flat(q), flat(pieces[p]), flat(pieces[p + 1]), 1e-12 * h * h) ||
+                        segments_cross_2d(flat(q), flat(b), flat(pieces[p]), flat(pieces[p + 1]), 1e-12 * h * h))
+                        return false;
             }
         }
-    }
-
-    /// The mesh with the patches replaced and unused vertices dropped.
-    void finish() {
-        std::vector<Tri> triangles;
-        for (std::size_t t = 0; t < mesh_.triangles.size(); ++t)
-            if (!removed_[t]) triangles.push_back(mesh_.triangles[t]);
-        for (std::size_t t = 0; t < new_triangles_.size(); ++t)
-            if (alive_[t]) triangles.push_back(new_triangles_[t]);
-        std::vector<Vec> normals = mesh_.normals;
-        normals.resize(positions_.size());
-        for (const Fan& f : fans_) normals[f.vertex] = f.direction;
-        std::vector<uint32_t> renumber(positions_.size(), UINT32_MAX);
-        for (const Tri& t : triangles)
-            for (uint32_t v : t) renumber[v] = 0;
-        Mesh out;
-        for (std::size_t v = 0; v < positions_.size(); ++v) {
-            if (renumber[v] == UINT32_MAX) continue;
-            renumber[v] = uint32_t(out.vertices.size());
-            out.vertices.push_back(positions_[v]);
-            out.normals.push_back(normals[v]);
+        std::vector<uint32_t> ring;
+        std::map<int, std::size_t> position;  // crossing → its index in the ring
+        for (std::size_t i = 0; i < n; ++i) {
+            for (int x : crossings)
+                if (crossings_[x].on_mesh_vertex && crossings_[x].vertex == loop[i]) position[x] = ring.size();
+            ring.push_back(loop[i]);
+            if (insert[i] >= 0) {
+                position[insert[i]] = ring.size();
+                ring.push_back(crossings_[insert[i]].vertex);
+            }
         }
-        for (Tri& t : triangles)
-            for (uint32_t& v : t) v = renumber[v];
-        out.triangles = std::move(triangles);
-        mesh_ = std::move(out);
+        const std::size_t m = ring.size();
+
+        std::vector<Tri> triangles;
+        std::size_t feature_edges = 0;
+        if (apex_it != apex_.end()) {
+            // A corner: a fan from it over the ring, a graph along one of the faces' normals.
+            const uint32_t apex = apex_it->second;
+            const Vec& c = positions_[apex];
+            if (!cell.contains(c, 1e-12 * h)) return false;
+            std::vector<Tri> star;
+            for (std::size_t i = 0; i < m; ++i) star.push_back({apex, ring[i], ring[(i + 1) % m]});
+            Vec patch_normal{0, 0, 0};
+            for (uint32_t t : *patch) {
+                const Tri& tri = mesh_.triangles[t];
+                const Vec tn = cross(sub(mesh_.vertices[tri[1]], mesh_.vertices[tri[0]]),
+                                     sub(mesh_.vertices[tri[2]], mesh_.vertices[tri[0]]));
+                for (int a = 0; a < 3; ++a) patch_normal[a] += tn[a];
+            }
+            field_.at(c);
+            std::vector<Vec> normals, directions;
+            for (int e : apex_equations_[id]) {
+                const Vec g = field_.gradient(e);
+                const double l = norm(g);
+                if (l > 0 && finite(g)) normals.push_back({-g[0] / l, -g[1] / l, -g[2] / l});
+            }
+            Vec faces_sum{0, 0, 0};
+            for (const Vec& v : normals)
+                for (int a = 0; a < 3; ++a) faces_sum[a] += v[a];
+            const double turn = dot(faces_sum, patch_normal) < 0 ? -1 : 1;
+            auto add_direction = [&](Vec d) {
+                const double length = norm(d);
+                if (!(length > 0)) return;
+                for (double& x : d) x *= turn / length;
+                directions.push_back(d);
+            };
+            add_direction(faces_sum);
+            for (std::size_t i = 0; i < normals.size(); ++i) {
+                add_direction(normals[i]);
+                for (std::size_t j = i + 1; j < normals.size(); ++j)
+                    add_direction({normals[i][0] + normals[j][0], normals[i][1] + normals[j][1], normals[i][2] + normals[j][2]});
+            }
+            add_direction({patch_normal[0] * turn, patch_normal[1] * turn, patch_normal[2] * turn});
+            const int apex_faces = group ? 0 : cell.faces_of(c, tolerance);  // a group's corner is inside its box
+            for (uint32_t v : ring) {  // a spoke on a face: only where no other cell meshes that face
+                const int shared = apex_faces & cell.faces_of(positions_[v], tolerance);
+                if (shared && !boundary_edge_free(id, shared)) return false;
+            }
+            Vec direction;
+            if (!graph_direction(star, apex, positions_, directions, h, direction)) return false;
+            triangles = std::move(star);
+            feature_edges = crossings.size();
+        } else {
+            // The traced links cut the ring into polygons; crossings without a link stay ring vertices.
+            std::vector<std::pair<std::size_t, std::size_t>> chords;
+            for (const auto& [a, b] : links_[id]) {
+                const auto ia = position.find(a), ib = position.find(b);
+                if (ia == position.end() || ib == position.end()) continue;
+                std::size_t i = std::min(ia->second, ib->second), j = std::max(ia->second, ib->second);
+                if (j - i < 2 || (i == 0 && j == m - 1)) return false;  // joins neighbours on the ring
+                const int shared = cell.faces_of(positions_[ring[i]], tolerance) & cell.faces_of(positions_[ring[j]], tolerance);
+                if (shared && !boundary_edge_free(id, shared)) return false;  // on a face another cell meshes
+                chords.push_back({i, j});
+            }
+            for (std::size_t x = 0; x < chords.size(); ++x)
+                for (std::size_t y = x + 1; y < chords.size(); ++y) {
+                    const auto [a, b] = chords[x];
+                    const auto [c, d] = chords[y];
+                    const bool c_in = c > a && c < b, d_in = d > a && d < b;
+                    if ((c_in != d_in && c != a && c != b && d != a && d != b) || (a == c && b == d)) return false;
+                }
+            feature_edges = chords.size();
+            // Split: each chord, innermost first, takes the ring's vertices between its ends.
+            std::sort(chords.begin(), chords.end(),
+                      [](const auto& x, const auto& y) { return x.second - x.first < y.second - y.first; });
+            std::vector<char> taken(m, 0);
+            std::vector<std::vector<uint32_t>> polygons;
+            for (const auto& [i, j] : chords) {
+                std::vector<uint32_t> poly;
+                for (std::size_t k = i; k <= j; ++k)
+                    if (k == i || k == j || !taken[k]) poly.push_back(ring[k]);
+                for (std::size_t k = i + 1; k < j; ++k) taken[k] = 1;
+                polygons.push_back(std::move(poly));
+            }
+            std::vector<uint32_t> rest;
+            for (std::size_t k = 0; k < m; ++k)
+                if (!taken[k]) rest.push_back(ring[k]);
+            polygons.push_back(std::move(rest));
+            std::vector<std::size_t> first_of;  // where each polygon's triangles start
+            for (const auto& poly : polygons) {
+                first_of.push_back(triangles.size());
+                if (!triangulate(poly, cell, triangles)) return false;
+            }
+            first_of.push_back(triangles.size());
+            // Triangles of different polygons (the two sides of an edge) must not cross.
+            const double eps = 1e-12 * h * h * h;
+            for (std::size_t p = 0; p + 1 < polygons.size(); ++p)
+                for (std::size_t s = first_of[p]; s < first_of[p + 1]; ++s)
+                    for (std::size_t t = first_of[p + 1]; t < triangles.size(); ++t) {
+                        const Tri &x = triangles[s], &y = triangles[t];
+                        for (int e = 0; e < 3; ++e) {
+                            const auto& P = positions_;
+                            if (segment_through_triangle(P[x[e]], P[x[(e + 1) % 3]], P[y[0]], P[y[1]], P[y[2]], eps) ||
+                                segment_through_triangle(P[y[e]], P[y[(e + 1) % 3]], P[x[0]], P[x[1]], P[x[2]], eps))
+                                return false;
+                        }
+                    }
+        }
+        chain_edges_ += feature_edges;  // an estimate for --stats: a cell redone later counts again
+        out = std::move(triangles);
+        return true;
     }
 
-private:
+    static constexpr int kMaxTraceSteps = 1 << 22;
+    static constexpr int kMaxStepsInCell = 64;
+
     FeatureField field_;
     Mesh& mesh_;
     double min_[3], step_[3];
     int cells_[3];
-    std::vector<Vec> positions_;              ///< the mesh's vertices, then the feature vertices
-    std::vector<Tri> new_triangles_;
-    std::vector<char> alive_;
-    std::vector<char> removed_;  ///< old triangles replaced by fans
-    std::vector<Fan> fans_;
-    std::unordered_map<uint64_t, std::size_t> fan_at_;
+    std::vector<Vec> positions_, normals_;  ///< the mesh's vertices, then crossings and corners
+    std::vector<Crossing> crossings_;
+    std::unordered_map<uint64_t, std::vector<int>> face_crossings_;
+    std::unordered_map<uint64_t, std::vector<std::pair<int, int>>> links_;  ///< per cell
+    std::unordered_set<uint64_t> visited_;
+    std::set<uint64_t> end_cells_, tried_corner_;
+    std::function<bool(uint64_t)> has_patch_;
+    std::set<uint64_t> edge_apex_tried_;
+    /// Cells sharing a corner on the lattice (the solid on both sides of a grid plane through
+    /// it), each mapped to all of them: fanned together, their shared faces inside the fan.
+    std::map<uint64_t, std::vector<uint64_t>> groups_;
+    std::vector<uint64_t> corner_cells_;
+    std::map<uint64_t, uint32_t> apex_;
+    std::map<uint64_t, std::vector<int>> apex_equations_;
+    std::map<uint64_t, std::pair<std::vector<uint32_t>, std::vector<Tri>>> results_;  ///< old triangles, new
+    std::size_t chain_edges_ = 0;
 };
 
 }  // namespace
@@ -650,39 +1335,34 @@ private:
 void sharpen_features(const ir::Graph& graph, ir::NodeId root, const Grid& grid, Mesh& mesh,
                       const std::vector<uint64_t>& triangle_cells, FeatureStats* stats) {
     FeatureStats local;
-    Sharpener sharpener(graph, root, grid, mesh);
-    if (sharpener.has_operations() && mesh.normals.size() == mesh.vertices.size()) {
+    ChainBuilder builder(graph, root, grid, mesh);
+    if (builder.has_operations() && mesh.normals.size() == mesh.vertices.size()) {
+        // Each cell's patch: the triangles order[begin, end) (a map of vectors would cost
+        // more than the mesh on large models).
         std::vector<uint32_t> order(mesh.triangles.size());
         for (uint32_t t = 0; t < order.size(); ++t) order[t] = t;
         std::stable_sort(order.begin(), order.end(),
                          [&](uint32_t a, uint32_t b) { return triangle_cells[a] < triangle_cells[b]; });
-        // Each cell's patch: order[begin, end).
-        std::unordered_map<uint64_t, std::pair<std::size_t, std::size_t>> patches;
-        std::vector<uint64_t> cells;
-        for (std::size_t i = 0; i < order.size();) {
-            std::size_t j = i;
-            while (j < order.size() && triangle_cells[order[j]] == triangle_cells[order[i]]) ++j;
-            patches[triangle_cells[order[i]]] = {i, j};
-            cells.push_back(triangle_cells[order[i]]);
-            i = j;
-        }
-        std::vector<uint32_t> patch;
-        auto try_cell = [&](uint64_t cell, bool neighbour) {
-            const auto [begin, end] = patches.at(cell);
-            patch.assign(order.begin() + long(begin), order.begin() + long(end));
-            return sharpener.try_cell(cell, patch, neighbour, local);
+        std::vector<std::pair<uint64_t, std::size_t>> starts;  // (cell, first index in order)
+        for (std::size_t i = 0; i < order.size(); ++i)
+            if (i == 0 || triangle_cells[order[i]] != triangle_cells[order[i - 1]]) starts.push_back({triangle_cells[order[i]], i});
+        auto patch_at = [&](std::size_t s) {
+            const std::size_t end = s + 1 < starts.size() ? starts[s + 1].second : order.size();
+            return std::vector<uint32_t>(order.begin() + long(starts[s].second), order.begin() + long(end));
         };
-        std::vector<uint64_t> found;
-        for (uint64_t cell : cells)
-            if (try_cell(cell, false)) found.push_back(cell);
-        // Then outwards along the features: the six neighbours of each feature cell.
-        std::unordered_map<uint64_t, char> tried;
-        for (uint64_t cell : found) tried[cell] = 1;
-        for (std::size_t i = 0; i < found.size(); ++i)
-            for (uint64_t next : sharpener.face_neighbours(found[i]))
-                if (patches.count(next) && !tried[next]++ && try_cell(next, true)) found.push_back(next);
-        sharpener.join_all(local);
-        sharpener.finish();
+        builder.set_patch_test([&](uint64_t cell) {
+            const auto it = std::lower_bound(starts.begin(), starts.end(), std::pair<uint64_t, std::size_t>{cell, 0});
+            return it != starts.end() && it->first == cell;
+        });
+        for (std::size_t s = 0; s < starts.size(); ++s) builder.seed(starts[s].first, patch_at(s), local);
+        builder.build(
+            [&](uint64_t cell) -> std::optional<std::vector<uint32_t>> {
+                const auto it = std::lower_bound(starts.begin(), starts.end(), std::pair<uint64_t, std::size_t>{cell, 0});
+                if (it == starts.end() || it->first != cell) return std::nullopt;
+                return patch_at(std::size_t(it - starts.begin()));
+            },
+            local);
+        builder.finish();
     }
     if (stats) *stats = local;
 }

@@ -2,23 +2,28 @@
 // mesh (the mesher's last pass, interp/mesher.cpp).
 //
 // Why: an R-function solid's edges are exactly where both operands of one R-operation vanish,
-// and its corners where two such edges meet; marching tetrahedra keep vertices on grid edges
-// and so cut them off by up to a cell. In each grid cell whose surface normals disagree, the
-// pass finds the R-operation whose operands both vanish in the cell and solves for the
-// feature point there with the `fortu singular` machinery: Newton's method on (φ, ψ) = 0 with
-// exact gradients (the minimum-norm step onto the edge), or on three independent operands for
-// a corner. The cell's patch of triangles (a disc; its boundary lies on the cell's faces and is
-// shared with the neighbours) is replaced by a fan from that point over the same boundary
-// (Kobbelt et al.'s extended marching cubes). Then, across each face between two such cells,
-// the fan triangles on the face's piece of boundary are flipped into the edge joining the two
-// feature points, so the mesh has edges along the feature, not only vertices on it.
+// and its corners where such edges meet; marching tetrahedra keep vertices on grid edges and
+// so cut them off by up to a cell. From each cell whose surface normals disagree, the pass
+// finds a point of the edge curve with the `fortu singular` machinery (Newton's method on
+// (φ, ψ) = 0 with exact gradients, the minimum-norm step) and traces the curve cell to cell,
+// putting a vertex where it crosses each cell face (Newton on φ, ψ and the face's plane). Each
+// cell it crosses is re-triangulated: the crossings go into the marching-tetrahedra segments
+// on their faces (the same segment from both cells, so the neighbours still share their
+// boundary), consecutive crossings are joined by an edge that cuts the cell's patch into
+// polygons, each triangulated with least area; a corner's cell gets a fan from the corner
+// (Kobbelt et al.'s extended marching cubes). The edges are then chains of mesh edges with no
+// gaps, the polyline through the curve's crossings of the lattice.
 // Every change keeps the boundary a neighbour sees, so watertightness, manifoldness and
-// orientation stay as the mesher made them; each change is kept only when the new triangles,
-// projected along the feature's mean outward normal, all keep their orientation and wind once
-// around each feature point (the patch is then a graph over that plane, so it cannot fold or
-// cross itself), are not degenerate, and the feature point lies in its cell (so the patch
-// meets other cells' triangles only on the shared boundary). A cell that fails any test keeps
-// its marching-tetrahedra patch.
+// orientation stay as the mesher made them; a cell is changed only when each new polygon,
+// projected along its mean normal, keeps its triangles' orientation and has a simple boundary
+// (so it cannot fold or cross itself), the polygons do not cross each other, no triangle edge
+// lies across a face, and the face segments with crossings in do not cross. A cell that fails
+// is fanned from a point of its edge curve over its boundary, crossings included; failing
+// that, it gives up its crossings and its neighbours are redone without them.
+// Features on the lattice (a crossing on a grid edge or node, a corner on a grid plane): the
+// point is snapped exactly there and shared by every cell around it: each crossing goes into
+// one patch-boundary segment chosen once for all cells, and a corner the solid surrounds on
+// both sides of a grid plane is fanned over the joined patches of the cells around it.
 #pragma once
 
 #include "interp/ir/ir.hpp"
@@ -33,9 +38,9 @@ namespace fortu {
 
 struct FeatureStats {
     std::size_t cells_tested = 0;     ///< cells whose normals disagree
-    std::size_t edge_vertices = 0;    ///< feature vertices on an R-operation's edge curve
-    std::size_t corner_vertices = 0;  ///< feature vertices where edges meet
-    std::size_t joined_faces = 0;     ///< faces across which two feature vertices were joined
+    std::size_t edge_vertices = 0;    ///< vertices where an R-operation's edge curve crosses a cell face
+    std::size_t corner_vertices = 0;  ///< vertices where edges meet
+    std::size_t chain_edges = 0;      ///< mesh edges along the edge curves (cells redone count again)
 };
 
 /// Rewrites `mesh` (made on `grid`'s lattice; `triangle_cells[t]` the cell of triangle t,

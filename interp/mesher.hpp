@@ -22,7 +22,7 @@
 // vertices inside cells and so can sit on sharp corners, but its manifold and
 // intersection-free variants need repair passes and extra vertices; we chose the guarantees,
 // then put the sharp edges and corners back cell by cell with a pass that keeps them
-// (mesh_features.hpp: Newton's method on the R-operations' operands, fans and flips).
+// (mesh_features.hpp: the R-operations' edge curves traced cell to cell, chains of mesh edges).
 //
 // Only cells the surface can cross are evaluated: an octree over leaves of 8³ cells, each box
 // tested with interval arithmetic (interval.hpp) and its tape shortened for the box

@@ -166,8 +166,9 @@ TEST_CASE("the Steinmetz solid's edge vertices are on both cylinders and joined 
     std::size_t joined = 0;
     for (const auto& [a, b] : edges) joined += on[a] && on[b];
     INFO(on_curve, " on the curve, ", near_curve, " within half a cell, ", joined, " edges along it");
-    CHECK(joined == stats.features.joined_faces);
-    CHECK(joined * 3 >= on_curve * 2);  // mostly chains: a cell the edge only clips may have no patch to fan
+    // Chains: the four arcs between the points (±1, 0, 0), where the cylinders touch and the
+    // curve cannot be traced, each with one edge fewer than vertices.
+    CHECK(joined + 4 >= on_curve);
     // Points of the curve to the mesh, and to its edges along the curve.
     double to_mesh = 0, to_chain_median = 0;
     std::vector<double> chain;
@@ -192,5 +193,5 @@ TEST_CASE("the Steinmetz solid's edge vertices are on both cylinders and joined 
     INFO("curve to the mesh's edges: ", to_mesh / h, " cells at most; to the edges along it: median ", to_chain_median / h,
          " cells");
     CHECK(to_chain_median <= 0.05 * h);  // a chord's sagitta, L² κ / 8: at most 0.043 h for L = √3 h, κ ≤ √2
-    CHECK(to_mesh <= 0.35 * h);  // where the chain breaks; marching tetrahedra alone cut up to 0.87 h
+    CHECK(to_mesh <= 0.2 * h);  // near (±1, 0, 0), where the curve is not traced, marching tetrahedra's cut
 }

@@ -47,6 +47,17 @@ Model load(const std::string& path, const std::string& rsystem) {
     return std::move(*model);
 }
 
+/// What every mesh guarantees: watertight, manifold, consistently oriented, outward, no
+/// degenerate or intersecting triangles.
+void check_closed_solid(const test::MeshCheck& r) {
+    CHECK(r.open_edges == 0);
+    CHECK(r.overused_edges == 0);
+    CHECK(r.same_direction_edges == 0);
+    CHECK(r.degenerate == 0);
+    CHECK(r.intersecting_pairs == 0);
+    CHECK(r.signed_volume > 0);
+}
+
 /// Meshes the case to PLY and checks it. `distance_cells`: the bound on both one-sided
 /// distances, in cells: half a cell on smooth surfaces; where the solid has sharp edges and
 /// corners, marching tetrahedra cut them off by up to a cell's half diagonal (√3/2 ≈ 0.87),
@@ -68,12 +79,7 @@ test::MeshCheck mesh_and_check(const Case& c, const test::ScratchDir& dir, doubl
          r.mesh_to_surface / h, " cells, surface->mesh ", r.surface_to_mesh / h, " cells (", r.samples,
          " samples), normals wrong ", r.normals_wrong, "/", r.normals_checked);
     CHECK(r.triangles > 100);
-    CHECK(r.open_edges == 0);
-    CHECK(r.overused_edges == 0);
-    CHECK(r.same_direction_edges == 0);
-    CHECK(r.degenerate == 0);
-    CHECK(r.intersecting_pairs == 0);
-    CHECK(r.signed_volume > 0);
+    check_closed_solid(r);
     CHECK(r.normals_wrong * 100 <= r.normals_checked);  // ±h/8 may reach past a thin part or a sharp edge
     if (distance_cells > 0) {
         CHECK(r.mesh_to_surface <= distance_cells * h);
@@ -547,12 +553,7 @@ TEST_CASE("every 3D RANOK script, bear.vm and the FLOZ3 sphere mesh with no --do
         INFO(r.triangles, " triangles, mesh->surface ", r.mesh_to_surface / h, " cells, surface->mesh ",
              r.surface_to_mesh / h, " cells (", r.samples, " samples), normals wrong ", r.normals_wrong, "/", r.normals_checked);
         CHECK(r.triangles > 0);
-        CHECK(r.open_edges == 0);
-        CHECK(r.overused_edges == 0);
-        CHECK(r.same_direction_edges == 0);
-        CHECK(r.degenerate == 0);
-        CHECK(r.intersecting_pairs == 0);
-        CHECK(r.signed_volume > 0);
+        check_closed_solid(r);
         // The bound in cells: half a cell where the surface is smooth; the sharp edges and
         // corners the feature pass could not put back keep marching tetrahedra's cut (up to
         // √3/2); parts thinner than a cell at 24 nodes (the Lopatka blades, bear.vm's claws)

@@ -35,7 +35,8 @@ void add_brick_options(OptionTable& t, CliOptions& o) {
            [&o] { o.resume = true; });
     t.option("--set", "NAME=V|NAME=A:B:STEP", "a sweep: one run per value of CONSTANT NAME (B included),\n"
                                               "files named by %NAME in -o (out_%R.png); repeat for a\n"
-                                              "product; spread over the ranks under mpirun",
+                                              "product; spread over the ranks under mpirun, else run\n"
+                                              "side by side on the threads after the first",
              [&o](const std::string& v) { o.sets.push_back(v); });
     t.option("--brick-times", "FILE.csv", "a bricked run appends brick,rank,seconds,evaluated,skipped\n"
                                           "per brick to FILE.csv (load-balance studies)",

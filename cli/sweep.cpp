@@ -102,7 +102,8 @@ CliOptions point_options(const CliOptions& o, const std::vector<SweepAxis>& axes
 /// A bricked run bounds its memory and already spreads its bricks over every thread: two of
 /// them side by side would break --memory.
 bool runs_bricked(const CliOptions& o) {
-    return o.memory > 0 || o.resume || (!o.output.empty() && brick_output_only(o.output));
+    return o.memory > 0 || o.resume || (!o.output.empty() && brick_output_only(o.output)) ||
+           (!o.mimages.empty() && brick_output_only(o.mimages));
 }
 
 /// Points 1.. of a sweep on one process, `side_by_side` at a time, each on its share of the

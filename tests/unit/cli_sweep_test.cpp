@@ -89,12 +89,13 @@ TEST_CASE("sweep: on one process the first run goes alone on every thread, the r
     CHECK(std::adjacent_find(sorted.begin(), sorted.end()) == sorted.end());
 }
 
-TEST_CASE("sweep: one thread, or a bricked run bounded by --memory, runs one after another in order") {
-    for (const bool memory_bound : {false, true}) {
-        CAPTURE(memory_bound);
+TEST_CASE("sweep: one thread, or bricked runs (--memory, M-images to .hdf), one after another in order") {
+    for (const std::string why : {"one thread", "--memory", "--mimages .hdf"}) {
+        CAPTURE(why);
         Recorder runs;
-        CliOptions o = sweep_of("R=0:0.3:0.1", memory_bound ? 0 : 1);
-        if (memory_bound) o.memory = std::size_t(1) << 30;
+        CliOptions o = sweep_of("R=0:0.3:0.1", why == "one thread" ? 1 : 0);
+        if (why == "--memory") o.memory = std::size_t(1) << 30;
+        if (why == "--mimages .hdf") o.mimages = "m_%R.hdf";
         CHECK(run_sweep(o, [&](const CliOptions& p) { return runs(p, p.constants[0].second == 0.2 ? 1 : 0); }) == 1);
         CHECK(runs.values == std::vector<double>{0, 0.1, 0.2, 0.3});   // a later failure does not stop it
         CHECK(runs.most_at_once.load() == 1);

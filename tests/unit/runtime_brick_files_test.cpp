@@ -1,5 +1,7 @@
 // tests/unit/runtime_brick_files_test.cpp — the durable files of bricked runs: whole-row
 // bricks, writes of many rows at once, the done map's batches, and the .pvti pieces.
+#include "test_support.hpp"
+
 #include "runtime/brick_files.hpp"
 #include "runtime/brick_output.hpp"
 #include "runtime/bricks.hpp"
@@ -12,8 +14,6 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <numeric>
 #include <sstream>
 #include <string>
@@ -24,11 +24,6 @@ using namespace fortu;
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string read_text(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), {}};
-}
 
 Grid grid3(int cols, int rows, int slices) {
     Grid g;
@@ -72,7 +67,7 @@ TEST_CASE("a partial file writes many pieces in one call, in order") {
     for (const std::string& r : rows) pieces.push_back({r.data(), r.size()});
     file.write_at(5, pieces);
     file.commit();
-    const std::string text = read_text(dir / "out");
+    const std::string text = test::read_file(dir / "out");
     REQUIRE(text.size() == 5 + 3000);
     CHECK(text.substr(0, 5) == std::string(5, '\0'));
     CHECK(text.substr(5, 12) == "012345678901");
@@ -87,18 +82,18 @@ TEST_CASE("the done map records batches of bricks after the output's sync, and o
         DoneMap map(destination, "key", DoneMap::Mode::Fresh);
         DoneRecorder recorder(map, [&] { ++syncs; }, 3600.0, 4);   // batches by count only
         for (std::size_t b = 0; b < 4; ++b) recorder.finished(b);
-        for (int wait = 0; wait < 2000 && read_text(destination + ".done") == "key\n"; ++wait)
+        for (int wait = 0; wait < 2000 && test::read_file(destination + ".done") == "key\n"; ++wait)
             std::this_thread::sleep_for(std::chrono::milliseconds(5));
-        CHECK(read_text(destination + ".done") == "key\n0\n1\n2\n3\n");
+        CHECK(test::read_file(destination + ".done") == "key\n0\n1\n2\n3\n");
         CHECK(syncs == 1);
         recorder.finished(7);
         recorder.finished(5);
         recorder.flush();
         CHECK(syncs == 2);
-        CHECK(read_text(destination + ".done") == "key\n0\n1\n2\n3\n7\n5\n");
+        CHECK(test::read_file(destination + ".done") == "key\n0\n1\n2\n3\n7\n5\n");
         recorder.finished(9);   // never flushed: a kill here loses it, the map does not claim it
     }
-    CHECK(read_text(destination + ".done") == "key\n0\n1\n2\n3\n7\n5\n");
+    CHECK(test::read_file(destination + ".done") == "key\n0\n1\n2\n3\n7\n5\n");
     DoneMap resumed(destination, "key", DoneMap::Mode::Resume);
     CHECK(resumed.done() == std::set<std::size_t>{0, 1, 2, 3, 5, 7});
     CHECK_THROWS_AS(DoneMap(destination, "another key", DoneMap::Mode::Resume), OutputError);
@@ -111,7 +106,7 @@ TEST_CASE("a failed sync stops the recording and reaches the workers") {
     recorder.finished(0);
     CHECK_THROWS_AS(recorder.flush(), OutputError);
     CHECK_THROWS_AS(recorder.finished(1), OutputError);
-    CHECK(read_text(dir / "out.vti.done") == "key\n");
+    CHECK(test::read_file(dir / "out.vti.done") == "key\n");
 }
 
 TEST_CASE("a .pvti's pieces tile the slices, each with its neighbour's first plane") {
@@ -133,12 +128,12 @@ TEST_CASE("a .pvti's pieces tile the slices, each with its neighbour's first pla
     out->sync();
     out->close();
     out->finish(0);
-    const std::string index = read_text(path);
+    const std::string index = test::read_file(path);
     // Layers 0..4 split in 3: [0,1) [1,3) [3,5) → slices 0-2, 2-6, 6-8.
     CHECK(index.find("<Piece Extent=\"0 4 0 3 0 2\" Source=\"f_0.vti\"/>") != std::string::npos);
     CHECK(index.find("<Piece Extent=\"0 4 0 3 2 6\" Source=\"f_1.vti\"/>") != std::string::npos);
     CHECK(index.find("<Piece Extent=\"0 4 0 3 6 8\" Source=\"f_2.vti\"/>") != std::string::npos);
-    const std::string piece = read_text(dir / "f_1.vti");
+    const std::string piece = test::read_file(dir / "f_1.vti");
     CHECK(piece.find("WholeExtent=\"0 4 0 3 2 6\"") != std::string::npos);
     // The piece's first value: slice 2, volume row 0 (image row 3), column 0.
     const std::size_t data = piece.find('_', piece.find("<AppendedData")) + 1 + 8;

@@ -2,6 +2,8 @@
 // put them on disk: bricks written with their components (computed from each brick's reach)
 // make the same bytes as the in-memory .vti writer, for cubes and whole rows, ragged bricks,
 // and the .pvti's pieces carry every array at the offsets their headers name.
+#include "test_support.hpp"
+
 #include "runtime/brick_output.hpp"
 #include "runtime/bricks.hpp"
 #include "runtime/fv_model.hpp"
@@ -13,8 +15,6 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <string>
 #include <vector>
 
@@ -22,11 +22,6 @@ using namespace fortu;
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string read_bytes(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), {}};
-}
 
 fs::path scratch(const std::string& name) {
     const fs::path dir = fs::temp_directory_path() / ("fortu_brick_mimages_" + name);
@@ -89,14 +84,14 @@ TEST_CASE("bricks with their components write the in-memory --mimages .vti byte 
     OutputOptions options;
     options.mimages = true;
     write_vti(field, resolve_output((dir / "memory.vti").string()), options);
-    const std::string expected = read_bytes(dir / "memory.vti");
+    const std::string expected = test::read_file(dir / "memory.vti");
     REQUIRE(expected.size() > 6 * 8 * field.grid.points());
     write_in_bricks(field, BrickLayout(field.grid, 4), (dir / "cubes.vti").string());   // 4 x 3 x 3 bricks, ragged
-    CHECK(read_bytes(dir / "cubes.vti") == expected);
+    CHECK(test::read_file(dir / "cubes.vti") == expected);
     write_in_bricks(field, BrickLayout::whole_rows(field.grid, 5), (dir / "rows.vti").string());
-    CHECK(read_bytes(dir / "rows.vti") == expected);
+    CHECK(test::read_file(dir / "rows.vti") == expected);
     write_in_bricks(field, BrickLayout(field.grid, std::array<int, 3>{13, 1, 1}), (dir / "thin.vti").string());
-    CHECK(read_bytes(dir / "thin.vti") == expected);
+    CHECK(test::read_file(dir / "thin.vti") == expected);
 }
 
 TEST_CASE("a .pvti with M-images: each piece is a .vti of its slices with the six arrays, the index names them") {
@@ -104,11 +99,11 @@ TEST_CASE("a .pvti with M-images: each piece is a .vti of its slices with the si
     const Field field = sample(7, 6, 9);
     const BrickLayout layout(field.grid, std::array<int, 3>{7, 6, 2});   // 5 layers of 2 slices
     write_in_bricks(field, layout, (dir / "m.pvti").string(), 2);
-    const std::string index = read_bytes(dir / "m.pvti");
+    const std::string index = test::read_file(dir / "m.pvti");
     for (const char* name : {"value", "n1", "n2", "n3", "n4", "n5"})
         CHECK(index.find(std::string("<PDataArray type=\"Float64\" Name=\"") + name + "\"/>") != std::string::npos);
     // Layers [0,2) and [2,5): slices 0..4 (the next piece's first plane included) and 4..8.
-    const std::string piece = read_bytes(dir / "m_1.vti");
+    const std::string piece = test::read_file(dir / "m_1.vti");
     const std::string header = vti_piece_header(field.grid, 4, 8, true);
     REQUIRE(piece.compare(0, header.size(), header) == 0);
     const std::size_t points = 7 * 6 * 5, block = 8 + 8 * points;

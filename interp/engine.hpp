@@ -96,6 +96,7 @@ enum class MimageStorage { Grey8, Rgb24, Float };
 struct EngineSettings {
     Precision precision = Precision::Float64;
     bool hoist = true;
+    bool compile = true;                      ///< --no-jit: false
     std::optional<MimageStorage> storage{};   ///< unset: the engine's default
 };
 

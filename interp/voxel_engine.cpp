@@ -5,6 +5,7 @@
 #include "interp/hoist.hpp"
 #include "interp/lane_kernel.hpp"
 #include "interp/parallel.hpp"
+#include "interp/tape_jit.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -153,14 +154,18 @@ struct Workspace {
     std::vector<T*> slots;             ///< each slot's lane array for the current tile
     std::vector<Instruction> code;     ///< with the current row's uniform values patched in
     std::size_t patched_row = ~std::size_t{0};
+    JitScratch<T> jit;
 };
 
 template <class T>
-void run_pass(const Pass<T>& pass, const Tiling& tiling, const EvalOptions& options) {
+void run_pass(const Pass<T>& pass, const Tiling& tiling, const EvalOptions& options, const VoxelOptions& engine) {
     const Tape& tape = pass.tape;
     const Grid& grid = pass.grid;
     const std::size_t plane = static_cast<std::size_t>(grid.cols()) * grid.rows();
     const std::size_t tiles = tiling.count();
+    std::unique_ptr<CompiledTape<T>> compiled;
+    if (engine.compile && double(tape.code.size()) * double(grid.points()) >= engine.compile_above_lane_operations)
+        compiled = CompiledTape<T>::compile(tape);
 
     // Slots of column inputs point into the column values: they need no tile memory
     // (prospero.vm has ~1000 of them).
@@ -214,12 +219,16 @@ void run_pass(const Pass<T>& pass, const Tiling& tiling, const EvalOptions& opti
                 for (int l = 0; l < tile.lanes; ++l) lane_values[l] = T(source.per_point[tile.first_point + l]);
             }
         }
+        bool patched = false;
         if (!tape.uniform_uses.empty() && tile.row != ws.patched_row) {
             for (const UniformUse& use : tape.uniform_uses)
                 ws.code[use.instruction].constant[use.operand] = double(pass.uniforms[use.uniform][tile.row]);
             ws.patched_row = tile.row;
+            patched = true;
         }
-        run_code<T>(tape.uniform_uses.empty() ? tape.code : ws.code, ws.slots.data(), tile.lanes);
+        const std::vector<Instruction>& code = tape.uniform_uses.empty() ? tape.code : ws.code;
+        if (compiled) compiled->run(code.data(), code.size(), ws.slots.data(), tile.lanes, ws.jit, patched);
+        else run_code<T>(code, ws.slots.data(), tile.lanes);
         for (std::size_t k = 0; k < pass.outputs.size(); ++k) {
             const T* values = ws.slots[tape.outputs[k]];
             const OutputSink<T>& sink = pass.outputs[k];
@@ -233,7 +242,7 @@ void run_pass(const Pass<T>& pass, const Tiling& tiling, const EvalOptions& opti
 /// The values of `nodes` at every point of `grid` (a grid of columns or of rows), as T.
 template <class T>
 std::vector<std::vector<T>> evaluate_nodes(const Graph& graph, const std::vector<NodeId>& nodes, const Grid& grid,
-                                           const EvalOptions& options) {
+                                           const EvalOptions& options, const VoxelOptions& engine) {
     std::vector<std::vector<T>> values(nodes.size(), std::vector<T>(grid.points()));
     if (nodes.empty()) return values;
     const Tape tape = compile_tape(graph, TapeSpec{nodes, {}, {}});
@@ -241,7 +250,7 @@ std::vector<std::vector<T>> evaluate_nodes(const Graph& graph, const std::vector
     for (std::vector<T>& v : values) pass.outputs.push_back({nullptr, v.data()});
     EvalOptions quiet = options;
     quiet.progress = nullptr;
-    run_pass(pass, Tiling::flat(grid.points()), quiet);
+    run_pass(pass, Tiling::flat(grid.points()), quiet, engine);
     return values;
 }
 
@@ -274,7 +283,7 @@ HoistPlan fitting_plan(const Graph& graph, const TapeSpec& spec, const Grid& gri
 }
 
 template <class T>
-void evaluate(const Graph& graph, NodeId root, Field& field, const EvalOptions& options, bool hoist,
+void evaluate(const Graph& graph, NodeId root, Field& field, const EvalOptions& options, const VoxelOptions& engine,
               const NodeValues& reuse) {
     const Grid& grid = field.grid;
     TapeSpec spec{{root}, {}, {}};
@@ -292,7 +301,7 @@ void evaluate(const Graph& graph, NodeId root, Field& field, const EvalOptions& 
     Tiling tiling = Tiling::flat(grid.points());
     std::vector<std::vector<T>> column_values, row_values, xy_values, xz_values;
     std::vector<const T*> uniforms;
-    if (hoist && grid.cols() >= kMinHoistColumns) {
+    if (engine.hoist && grid.cols() >= kMinHoistColumns) {
         const HoistPlan plan = fitting_plan<T>(graph, spec, grid);
         Grid columns = grid;   // one row: the X of each column
         columns.dims = 2;
@@ -303,10 +312,10 @@ void evaluate(const Graph& graph, NodeId root, Field& field, const EvalOptions& 
         xy.z.nodes = 1;
         Grid xz = grid;        // one row per slice: the X and Z of each column and slice
         xz.y.nodes = 1;
-        column_values = evaluate_nodes<T>(graph, plan.column_nodes, columns, options);
-        row_values = evaluate_nodes<T>(graph, plan.row_nodes, rows, options);
-        xy_values = evaluate_nodes<T>(graph, plan.xy_plane_nodes, xy, options);
-        xz_values = evaluate_nodes<T>(graph, plan.xz_plane_nodes, xz, options);
+        column_values = evaluate_nodes<T>(graph, plan.column_nodes, columns, options, engine);
+        row_values = evaluate_nodes<T>(graph, plan.row_nodes, rows, options, engine);
+        xy_values = evaluate_nodes<T>(graph, plan.xy_plane_nodes, xy, options, engine);
+        xz_values = evaluate_nodes<T>(graph, plan.xz_plane_nodes, xz, options, engine);
         tiling = Tiling::by_rows(grid);
         const std::size_t cols = grid.cols(), rows_per_tile = tiling.rows_per_tile;
         // Tiles of whole rows read each column's values once per row: repeated that often,
@@ -337,7 +346,7 @@ void evaluate(const Graph& graph, NodeId root, Field& field, const EvalOptions& 
         }
     }
     const Tape tape = compile_tape(graph, spec);
-    run_pass(Pass<T>{tape, grid, std::move(inputs), std::move(uniforms), std::move(outputs)}, tiling, options);
+    run_pass(Pass<T>{tape, grid, std::move(inputs), std::move(uniforms), std::move(outputs)}, tiling, options, engine);
 }
 
 }  // namespace
@@ -375,6 +384,7 @@ std::unique_ptr<Engine> VoxelEngine::tuned(const EngineSettings& settings) const
     VoxelOptions options = options_;
     if (settings.precision == Precision::Float32) options.precision = Precision::Float32;
     options.hoist = options.hoist && settings.hoist;
+    options.compile = options.compile && settings.compile;
     return std::make_unique<VoxelEngine>(options);
 }
 
@@ -383,8 +393,8 @@ Field VoxelEngine::evaluate_grid(const ir::Graph& graph, ir::NodeId root, const 
     Field field;
     field.grid = grid;
     field.values.assign(grid.points(), std::nan(""));
-    if (options_.precision == Precision::Float32) evaluate<float>(graph, root, field, options, options_.hoist, reuse);
-    else evaluate<double>(graph, root, field, options, options_.hoist, reuse);
+    if (options_.precision == Precision::Float32) evaluate<float>(graph, root, field, options, options_, reuse);
+    else evaluate<double>(graph, root, field, options, options_, reuse);
     return field;
 }
 

@@ -34,6 +34,13 @@ struct VoxelOptions {
     /// 3D, those of X and Y (X and Z) alone once per XY (XZ) plane (hoist.hpp). Off only to
     /// compare against the plain tape (--no-hoist).
     bool hoist = true;
+    /// Run large passes as machine code compiled from the tape (tape_jit.hpp; the same
+    /// values). Off only to compare against the lane loops (--no-jit).
+    bool compile = true;
+    /// Passes of fewer lane operations (instructions × points) than this run in the lane
+    /// loops: compiling costs about a microsecond per instruction, which these would not
+    /// save back.
+    double compile_above_lane_operations = 1e8;
 };
 
 /// Points are computed in double for either precision (PointEvaluator); known and kept

@@ -1,0 +1,537 @@
+// interp/tape_jit.cpp — the tape compiler (see tape_jit.hpp): asmjit's assembler writes one
+// function per tape that loops over chunks and runs every instruction on each.
+#include "interp/tape_jit.hpp"
+
+#include "interp/lane_kernel.hpp"
+
+#include <asmjit/x86.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <mutex>
+#include <type_traits>
+
+namespace fortu {
+namespace {
+
+using namespace asmjit;
+
+constexpr int kVectors = 4;
+/// Machine code per block: half the 32 KiB instruction cache.
+constexpr std::size_t kBlockBytes = 256;
+constexpr int kVectorBytes = 32;
+
+/// Where an operand's lanes are: the chunk's own slots (`internal`), the caller's slot
+/// arrays at the chunk's offset (`external`), or a broadcast constant (`constant`).
+enum class Place : uint8_t { internal, external, constant };
+
+struct OperandRef {
+    Place place = Place::external;
+    uint32_t index = 0;   ///< internal: chunk slot; external: tape slot; constant: pool entry
+};
+
+/// The process's executable memory; asmjit's runtime is safe to share between threads, the
+/// lock covers our add/release pairs with compilation on several threads.
+JitRuntime& runtime() {
+    static JitRuntime rt;
+    return rt;
+}
+std::mutex& runtime_mutex() {
+    static std::mutex m;
+    return m;
+}
+
+/// Fixed pool entries, before the operands' constants.
+enum Fixed : uint32_t { kSignBit, kAbsMask, kZero, kOne, kMinusOne, kFixedCount };
+
+}  // namespace
+
+template <class T>
+struct CompiledTape<T>::Site {
+    uint32_t index;           ///< the instruction in the code
+    OperandRef refs[4];       ///< out, then the three operands
+};
+
+template <class T>
+struct CompiledTape<T>::Compiled {
+    using Function = void (*)(const void* context);
+    Function function = nullptr;
+    std::vector<Site> sites;
+    uint32_t internal_slots = 0;
+    /// Bytes from one chunk's slots to the next's: a cache line more than they take, so the
+    /// same slot of consecutive chunks is never a multiple of 4 KiB apart (4K aliasing).
+    std::size_t chunk_stride = 0;
+    /// Pool entries read from the code's constant operands: (instruction, operand).
+    std::vector<std::pair<uint32_t, uint8_t>> operand_constants;
+    std::vector<T> fixed_constants;   ///< entries before and after: masks, R-operation factors
+    uint32_t slot_count = 0;
+
+    ~Compiled() {
+        if (function) {
+            std::lock_guard lock(runtime_mutex());
+            runtime().release(function);
+        }
+    }
+};
+
+namespace {
+
+/// What the compiled function reads: its one argument.
+template <class T>
+struct Context {
+    T* const* slots;
+    T* scratch;
+    const T* constants;
+    const Instruction* code;
+    std::size_t end;   ///< bytes of whole chunks in the caller's arrays
+};
+
+template <class T>
+using SiteOf = typename CompiledTape<T>::Site;
+
+/// The lane kernel for one instruction of the chunk: the operations not compiled inline.
+template <class T>
+void run_site(const Context<T>* context, const SiteOf<T>* site, std::size_t external_offset,
+              std::size_t internal_offset) {
+    constexpr int kLanes = CompiledTape<T>::kChunkLanes;
+    T* lanes[4];
+    for (int k = 0; k < 4; ++k) {
+        const OperandRef& ref = site->refs[k];
+        lanes[k] = ref.place == Place::internal
+                       ? context->scratch + internal_offset / sizeof(T) + std::size_t(ref.index) * kLanes
+                       : context->slots[ref.index] + external_offset / sizeof(T);
+    }
+    Instruction ins = context->code[site->index];
+    ins.out = 0;
+    ins.in[0] = 1, ins.in[1] = 2, ins.in[2] = 3;
+    run_lanes<T, kLanes>(&ins, 1, lanes, kLanes);
+}
+
+/// Whether an instruction is compiled inline (Emitter::emit) rather than handed to the lane kernel.
+bool compiles_inline(const Instruction& ins) {
+    using ir::Op;
+    switch (ins.op) {
+    case Op::Add: case Op::Sub: case Op::Mul: case Op::Div: case Op::Min: case Op::Max: case Op::Neg:
+    case Op::Abs: case Op::Square: case Op::Sqrt: case Op::Sign: case Op::RAnd: case Op::ROr:
+        return true;
+    case Op::Select: return (ins.constant_operands & 1) == 0;   // a constant condition is folded away in practice
+    default: return false;
+    }
+}
+
+/// The code generator: registers rbx = slot pointers, r12 = chunk slots, r13 = constants,
+/// r14 = the chunk's byte offset in the caller's arrays, r15 = its offset in the chunk slots,
+/// rbp = context. ymm0..3 hold the last instruction's result vectors (read from there by the
+/// next instruction, not from memory: a store and a load on every link of a chain of
+/// dependent instructions would make it wait for store forwarding), ymm4..6 an operation's
+/// fixed constants, ymm8..11 temporaries, ymm13..15 operands' constants.
+template <class T>
+class Emitter {
+public:
+    static constexpr bool kDouble = std::is_same_v<T, double>;
+    static constexpr int kLanes = CompiledTape<T>::kChunkLanes;
+
+    explicit Emitter(x86::Assembler& a) : a_(a) {}
+
+    InstId id(InstId single, InstId dbl) const { return kDouble ? dbl : single; }
+
+    /// The registers no longer hold the last result (after a call, at a loop head).
+    void forget() { has_last_ = false; }
+
+    x86::Mem chunk_slot(uint32_t index, int v) const {
+        return x86::ptr(x86::r12, x86::r15, 0, int32_t(index * kLanes * sizeof(T) + v * kVectorBytes), kVectorBytes);
+    }
+
+    bool is_last(const OperandRef& ref) const {
+        return has_last_ && ref.place == last_.place && ref.index == last_.index;
+    }
+
+    /// Operand k's vector v as an operand: a register (constant, last result) or memory.
+    Operand_ source(const OperandRef& ref, int k, int v) const {
+        if (ref.place == Place::constant) return x86::ymm(12 + k);
+        if (is_last(ref)) return x86::ymm(v);
+        if (ref.place == Place::internal) return chunk_slot(ref.index, v);
+        return x86::ptr(pointer_reg(k), x86::r14, 0, v * kVectorBytes, kVectorBytes);
+    }
+
+    static x86::Gp pointer_reg(int k) {
+        static const x86::Gp regs[4] = {x86::rsi, x86::rax, x86::rcx, x86::rdx};
+        return regs[k];
+    }
+
+    /// Loads what an instruction's operands need before its vectors: external arrays'
+    /// pointers and constants' broadcasts (refs[k], k = 1..3: ymm12+k).
+    void prepare(const OperandRef* refs, int count, bool store_out) {
+        for (int k = 0; k < count; ++k) {
+            const OperandRef& ref = refs[k];
+            if (ref.place == Place::external && (k > 0 ? !is_last(ref) : store_out))
+                a_.mov(pointer_reg(k), x86::ptr(x86::rbx, int32_t(ref.index * sizeof(T*))));
+            else if (ref.place == Place::constant && k > 0)
+                broadcast(x86::ymm(12 + k), ref.index);
+        }
+    }
+
+    void broadcast(const x86::Ymm& dst, uint32_t entry) {
+        const x86::Mem m = x86::ptr(x86::r13, int32_t(entry * sizeof(T)), sizeof(T));
+        if constexpr (kDouble) a_.vbroadcastsd(dst, m);
+        else a_.vbroadcastss(dst, m);
+    }
+
+    /// Operand k's vector v in a register: a constant's, the last result's, or loaded into
+    /// `scratch` (never the result register, which may hold another operand).
+    x86::Ymm in_register(const OperandRef& ref, int k, int v, const x86::Ymm& scratch) {
+        const Operand_ src = source(ref, k, v);
+        if (src.isReg()) return src.as<x86::Ymm>();
+        a_.vmovups(scratch, src.as<x86::Mem>());
+        return scratch;
+    }
+
+    void store(const OperandRef& out, int v, const x86::Ymm& value) {
+        if (out.place == Place::internal) a_.vmovups(chunk_slot(out.index, v), value);
+        else a_.vmovups(x86::ptr(pointer_reg(0), x86::r14, 0, v * kVectorBytes, kVectorBytes), value);
+    }
+
+    /// One instruction inline (compiles_inline); its result is stored unless `store_out` is
+    /// false (only the next instruction reads it, from the registers).
+    void emit(const Instruction& ins, const OperandRef* refs, uint32_t r_factors, bool store_out) {
+        using ir::Op;
+        const OperandRef& out = refs[0];
+        const OperandRef* in = refs + 1;
+        const auto each_vector = [&](auto body) {
+            for (int v = 0; v < kVectors; ++v) {
+                const x86::Ymm result = x86::ymm(v);
+                body(v, result);
+            }
+            if (store_out)
+                for (int v = 0; v < kVectors; ++v) store(out, v, x86::ymm(v));
+        };
+        const x86::Ymm t8 = x86::ymm(8), t9 = x86::ymm(9), t10 = x86::ymm(10), t11 = x86::ymm(11);
+        const x86::Ymm k4 = x86::ymm(4), k5 = x86::ymm(5), k6 = x86::ymm(6);
+        const InstId add = id(x86::Inst::kIdVaddps, x86::Inst::kIdVaddpd);
+        const InstId sub = id(x86::Inst::kIdVsubps, x86::Inst::kIdVsubpd);
+        const InstId mul = id(x86::Inst::kIdVmulps, x86::Inst::kIdVmulpd);
+        const InstId div = id(x86::Inst::kIdVdivps, x86::Inst::kIdVdivpd);
+        const InstId sqrt = id(x86::Inst::kIdVsqrtps, x86::Inst::kIdVsqrtpd);
+        const InstId cmp = id(x86::Inst::kIdVcmpps, x86::Inst::kIdVcmppd);
+        const InstId blend = id(x86::Inst::kIdVblendvps, x86::Inst::kIdVblendvpd);
+        const auto binary = [&](InstId op) {
+            prepare(refs, 3, store_out);
+            each_vector([&](int v, const x86::Ymm& r) {
+                const x86::Ymm x = in_register(in[0], 1, v, t10);
+                a_.emit(op, r, x, source(in[1], 2, v));
+            });
+        };
+        const auto with_mask = [&](InstId op, uint32_t mask) {  // r = mask op a
+            prepare(refs, 2, store_out);
+            broadcast(k4, mask);
+            each_vector([&](int v, const x86::Ymm& r) { a_.emit(op, r, k4, source(in[0], 1, v)); });
+        };
+        // k_min / k_max: (a < b || a != a) ? a : b; vminps gives (a < b) ? a : b.
+        const auto min_max = [&](InstId op) {
+            prepare(refs, 3, store_out);
+            each_vector([&](int v, const x86::Ymm& r) {
+                const x86::Ymm x = in_register(in[0], 1, v, t10);
+                a_.emit(op, t8, x, source(in[1], 2, v));
+                a_.emit(cmp, t9, x, x, Imm(3));   // unordered: x is NaN
+                a_.emit(blend, r, t8, x, t9);
+            });
+        };
+        const InstId min = id(x86::Inst::kIdVminps, x86::Inst::kIdVminpd);
+        const InstId max = id(x86::Inst::kIdVmaxps, x86::Inst::kIdVmaxpd);
+        switch (ins.op) {
+        case Op::Add: binary(add); break;
+        case Op::Sub: binary(sub); break;
+        case Op::Mul: binary(mul); break;
+        case Op::Div: binary(div); break;
+        case Op::Min: min_max(min); break;
+        case Op::Max: min_max(max); break;
+        case Op::Neg: with_mask(id(x86::Inst::kIdVxorps, x86::Inst::kIdVxorpd), kSignBit); break;
+        case Op::Abs: with_mask(id(x86::Inst::kIdVandps, x86::Inst::kIdVandpd), kAbsMask); break;
+        case Op::Square:
+            prepare(refs, 2, store_out);
+            each_vector([&](int v, const x86::Ymm& r) {
+                const x86::Ymm x = in_register(in[0], 1, v, t10);
+                a_.emit(mul, r, x, x);
+            });
+            break;
+        case Op::Sqrt:
+            prepare(refs, 2, store_out);
+            each_vector([&](int v, const x86::Ymm& r) { a_.emit(sqrt, r, source(in[0], 1, v)); });
+            break;
+        case Op::Sign:   // a > 0 ? 1 : a < 0 ? -1 : a
+            prepare(refs, 2, store_out);
+            broadcast(k4, kZero);
+            broadcast(k5, kOne);
+            broadcast(k6, kMinusOne);
+            each_vector([&](int v, const x86::Ymm& r) {
+                const x86::Ymm x = in_register(in[0], 1, v, t10);
+                a_.emit(cmp, t8, x, k4, Imm(0x1E));   // x > 0, ordered
+                a_.emit(cmp, t9, x, k4, Imm(0x11));   // x < 0, ordered
+                a_.emit(blend, t10, x, k5, t8);
+                a_.emit(blend, r, t10, k6, t9);
+            });
+            break;
+        case Op::Select:   // c > 0 ? a : (c != c ? c : b), operands c, a, b
+            prepare(refs, 4, store_out);
+            broadcast(k4, kZero);
+            each_vector([&](int v, const x86::Ymm& r) {
+                const x86::Ymm c = in_register(in[0], 1, v, t10);
+                const x86::Ymm a = in_register(in[1], 2, v, t11);
+                const x86::Ymm b = in_register(in[2], 3, v, t9);
+                a_.emit(cmp, t8, c, k4, Imm(0x1E));
+                a_.emit(blend, t11, b, a, t8);
+                a_.emit(cmp, t8, c, c, Imm(3));
+                a_.emit(blend, r, t11, c, t8);
+            });
+            break;
+        case Op::RAnd:
+        case Op::ROr: {
+            const bool conjunction = ins.op == Op::RAnd;
+            const double alpha = ins.imm;
+            if (alpha == 1.0) {
+                min_max(conjunction ? min : max);
+                break;
+            }
+            // R0: (a + b) ∓ sqrt(a*a + b*b); Rα: ((a + b) ∓ sqrt((a*a + b*b) - 2α*(a*b))) / (1 + α)
+            prepare(refs, 3, store_out);
+            if (alpha != 0.0) {
+                broadcast(k5, r_factors);       // T(2α)
+                broadcast(k6, r_factors + 1);   // T(1 + α)
+            }
+            each_vector([&](int v, const x86::Ymm& r) {
+                const x86::Ymm a = in_register(in[0], 1, v, t10);
+                const x86::Ymm b = in_register(in[1], 2, v, t11);
+                a_.emit(mul, t8, a, a);
+                a_.emit(mul, t9, b, b);
+                a_.emit(add, t8, t8, t9);
+                if (alpha != 0.0) {
+                    a_.emit(mul, t9, a, b);
+                    a_.emit(mul, t9, k5, t9);
+                    a_.emit(sub, t8, t8, t9);
+                }
+                a_.emit(sqrt, t8, t8);
+                a_.emit(add, r, a, b);
+                a_.emit(conjunction ? sub : add, r, r, t8);
+                if (alpha != 0.0) a_.emit(div, r, r, k6);
+            });
+            break;
+        }
+        default: break;
+        }
+        has_last_ = true;
+        last_ = out;
+    }
+
+    /// An instruction left to the lane kernel: a call with the registers it may clobber
+    /// reloaded by the next instructions (they reload everything they use).
+    void call_site(const SiteOf<T>* site) {
+        a_.vzeroupper();
+        a_.mov(x86::rdi, x86::rbp);
+        a_.mov(x86::rsi, Imm(reinterpret_cast<uint64_t>(site)));
+        a_.mov(x86::rdx, x86::r14);
+        a_.mov(x86::rcx, x86::r15);
+        a_.mov(x86::rax, Imm(reinterpret_cast<uint64_t>(&run_site<T>)));
+        a_.call(x86::rax);
+        forget();
+    }
+
+private:
+    x86::Assembler& a_;
+    bool has_last_ = false;
+    OperandRef last_;
+};
+
+}  // namespace
+
+bool tape_jit_available() {
+#if defined(__x86_64__) && defined(__GNUC__)
+    static const bool available = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("avx");
+    return available;
+#else
+    return false;
+#endif
+}
+
+template <class T>
+std::unique_ptr<CompiledTape<T>> CompiledTape<T>::compile(const Tape& tape) {
+    if (!tape_jit_available()) return nullptr;
+    auto compiled = std::make_unique<Compiled>();
+    Compiled& c = *compiled;
+    c.slot_count = tape.slot_count;
+
+    // Which slots the caller sees: arguments, inputs, constants, outputs and the zero slot.
+    std::vector<char> external(tape.slot_count, 0);
+    external[tape.zero_slot] = 1;
+    for (auto [slot, axis] : tape.arguments) external[slot] = 1;
+    for (auto [slot, which] : tape.inputs) external[slot] = 1;
+    for (auto [slot, value] : tape.constants) external[slot] = 1;
+    for (uint32_t slot : tape.outputs) external[slot] = 1;
+    std::vector<uint32_t> chunk_slot(tape.slot_count, 0);
+    for (uint32_t s = 0; s < tape.slot_count; ++s)
+        if (!external[s]) chunk_slot[s] = c.internal_slots++;
+    // Displacements are 32-bit: a tape this wide stays with the lane kernel.
+    c.chunk_stride = std::size_t(c.internal_slots) * kChunkLanes * sizeof(T) + 64;
+    if (c.chunk_stride > (1u << 24)) return nullptr;
+
+    // The pool: fixed entries, then one per constant operand, then the R-operations' factors.
+    c.fixed_constants.resize(kFixedCount);
+    const auto bits = [](std::uint64_t pattern) {
+        T value;
+        if constexpr (sizeof(T) == 8) std::memcpy(&value, &pattern, 8);
+        else {
+            const auto narrow = static_cast<std::uint32_t>(pattern);
+            std::memcpy(&value, &narrow, 4);
+        }
+        return value;
+    };
+    c.fixed_constants[kSignBit] = bits(sizeof(T) == 8 ? 0x8000000000000000ull : 0x80000000ull);
+    c.fixed_constants[kAbsMask] = bits(sizeof(T) == 8 ? 0x7fffffffffffffffull : 0x7fffffffull);
+    c.fixed_constants[kZero] = T(0), c.fixed_constants[kOne] = T(1), c.fixed_constants[kMinusOne] = T(-1);
+
+    std::vector<std::array<OperandRef, 4>> refs(tape.code.size());
+    std::vector<uint32_t> r_factors(tape.code.size(), 0);
+    std::vector<T> r_factor_values;
+    for (std::size_t i = 0; i < tape.code.size(); ++i) {
+        const Instruction& ins = tape.code[i];
+        const auto place_of = [&](uint32_t slot) {
+            return external[slot] ? OperandRef{Place::external, slot} : OperandRef{Place::internal, chunk_slot[slot]};
+        };
+        refs[i][0] = place_of(ins.out);
+        for (int k = 0; k < ir::kMaxArity; ++k) {
+            if (ins.constant_operands & (1u << k)) {
+                refs[i][k + 1] = {Place::constant, uint32_t(kFixedCount + c.operand_constants.size())};
+                c.operand_constants.emplace_back(uint32_t(i), uint8_t(k));
+            } else {
+                refs[i][k + 1] = place_of(ins.in[k]);
+            }
+        }
+        if ((ins.op == ir::Op::RAnd || ins.op == ir::Op::ROr) && ins.imm != 0.0 && ins.imm != 1.0) {
+            r_factors[i] = uint32_t(r_factor_values.size());
+            r_factor_values.push_back(T(2.0 * ins.imm));
+            r_factor_values.push_back(T(1.0 + ins.imm));
+        }
+    }
+    const uint32_t r_base = uint32_t(kFixedCount + c.operand_constants.size());
+    for (uint32_t& f : r_factors) f += r_base;
+    c.fixed_constants.insert(c.fixed_constants.end(), r_factor_values.begin(), r_factor_values.end());
+
+    CodeHolder code;
+    code.init(runtime().environment());
+    x86::Assembler a(&code);
+    Emitter<T> e(a);
+    // Callee-saved registers (System V): six pushes and 8 bytes keep calls 16-byte aligned.
+    const x86::Gp saved[] = {x86::rbp, x86::rbx, x86::r12, x86::r13, x86::r14, x86::r15};
+    for (const x86::Gp& r : saved) a.push(r);
+    a.sub(x86::rsp, 8);
+    a.mov(x86::rbp, x86::rdi);
+    a.mov(x86::rbx, x86::ptr(x86::rdi, offsetof(Context<T>, slots)));
+    a.mov(x86::r12, x86::ptr(x86::rdi, offsetof(Context<T>, scratch)));
+    a.mov(x86::r13, x86::ptr(x86::rdi, offsetof(Context<T>, constants)));
+    // Blocks of instructions, each run over every chunk before the next: a block's code stays
+    // in the instruction cache, and the values it makes and uses in the data cache.
+    const auto begin_block = [&](Label& next) {
+        a.xor_(x86::r14d, x86::r14d);
+        a.xor_(x86::r15d, x86::r15d);
+        next = a.newLabel();
+        a.bind(next);
+        e.forget();
+    };
+    const auto end_block = [&](const Label& next) {
+        a.add(x86::r14, kChunkLanes * int(sizeof(T)));
+        a.add(x86::r15, int32_t(c.chunk_stride));
+        a.cmp(x86::r14, x86::ptr(x86::rbp, offsetof(Context<T>, end)));
+        a.jb(next);
+    };
+    // A result needs no store when only the next instruction reads it, inline (from the
+    // registers): the writer of each internal slot value, and whether anything else reads it.
+    std::vector<char> store_out(tape.code.size(), 0);
+    {
+        std::vector<std::size_t> writer(tape.slot_count, SIZE_MAX);
+        for (std::size_t i = 0; i < tape.code.size(); ++i) {
+            const Instruction& ins = tape.code[i];
+            for (int k = 0; k < ir::op_arity(ins.op); ++k) {
+                if (ins.constant_operands & (1u << k)) continue;
+                const std::size_t w = writer[ins.in[k]];
+                if (w != SIZE_MAX && (w + 1 != i || !compiles_inline(ins))) store_out[w] = 1;
+            }
+            if (refs[i][0].place == Place::external || !compiles_inline(ins)) store_out[i] = 1;
+            writer[ins.out] = i;
+        }
+    }
+    // Sites are addressed by the code, so their vector must not move.
+    c.sites.reserve(tape.code.size());
+    Label block;
+    begin_block(block);
+    std::size_t block_start = a.offset();
+    for (std::size_t i = 0; i < tape.code.size(); ++i) {
+        // A block ends only where the registers hold nothing the next instruction needs.
+        if (a.offset() - block_start >= kBlockBytes && (i == 0 || store_out[i - 1])) {
+            end_block(block);
+            begin_block(block);
+            block_start = a.offset();
+        }
+        if (compiles_inline(tape.code[i])) {
+            e.emit(tape.code[i], refs[i].data(), r_factors[i], store_out[i] != 0);
+            continue;
+        }
+        c.sites.push_back(Site{uint32_t(i), {refs[i][0], refs[i][1], refs[i][2], refs[i][3]}});
+        e.call_site(&c.sites.back());
+    }
+    end_block(block);
+    a.vzeroupper();
+    a.add(x86::rsp, 8);
+    for (int k = 5; k >= 0; --k) a.pop(saved[k]);
+    a.ret();
+
+    {
+        std::lock_guard lock(runtime_mutex());
+        if (runtime().add(&c.function, &code) != kErrorOk) return nullptr;
+    }
+    std::unique_ptr<CompiledTape> result(new CompiledTape());
+    result->code_bytes_ = code.codeSize();
+    result->compiled_ = std::move(compiled);
+    return result;
+}
+
+template <class T>
+CompiledTape<T>::~CompiledTape() = default;
+
+template <class T>
+void CompiledTape<T>::run(const Instruction* code, std::size_t count, T* const* slots, int lanes,
+                          JitScratch<T>& scratch, bool constants_changed) const {
+    const Compiled& c = *compiled_;
+    const std::size_t pool_size = c.fixed_constants.size() + c.operand_constants.size();
+    if (scratch.constants.size() != pool_size) {
+        scratch.constants.assign(pool_size, T(0));
+        constants_changed = true;
+    }
+    if (constants_changed || scratch.constants_of != code) {
+        T* pool = scratch.constants.data();
+        std::copy_n(c.fixed_constants.begin(), kFixedCount, pool);
+        std::size_t k = kFixedCount;
+        for (auto [instruction, operand] : c.operand_constants) pool[k++] = T(code[instruction].constant[operand]);
+        std::copy(c.fixed_constants.begin() + kFixedCount, c.fixed_constants.end(), pool + k);
+        scratch.constants_of = code;
+    }
+    const std::size_t chunks = std::size_t(lanes) / kChunkLanes;
+    const std::size_t needed = (chunks * c.chunk_stride + 64) / sizeof(T);
+    if (scratch.slots.size() < needed) scratch.slots.assign(needed, T(0));
+    T* base = scratch.slots.data();
+    base += (64 - reinterpret_cast<std::uintptr_t>(base) % 64) % 64 / sizeof(T);   // cache-line aligned
+    const Context<T> context{slots, base, scratch.constants.data(), code, chunks * kChunkLanes * sizeof(T)};
+    if (chunks > 0) c.function(&context);
+    const int done = int(chunks) * kChunkLanes;
+    if (done == lanes) return;
+    // The tail: the lane kernel on every slot from the first lane not done.
+    std::vector<T*>& tail = scratch.tail_slots;
+    tail.resize(c.slot_count);
+    for (uint32_t s = 0; s < c.slot_count; ++s) tail[s] = slots[s] + done;
+    run_lanes<T, 0>(code, count, tail.data(), lanes - done);
+}
+
+template class CompiledTape<float>;
+template class CompiledTape<double>;
+
+}  // namespace fortu

@@ -1,0 +1,69 @@
+// interp/tape_jit.hpp — a tape compiled to x86-64 AVX2 machine code, run a short chunk of
+// lanes at a time.
+//
+// Why: the lane kernel (lane_kernel.hpp) runs one instruction over a whole tile before the
+// next, so every instruction streams its operands' 1024-lane arrays through L2, and shorter
+// tiles pay its per-instruction dispatch more often (1024 lanes were the fastest). Compiled
+// code has no dispatch, so it can run the whole tape over a chunk of a few vectors whose
+// values stay in L1 (prospero.vm: ~160 live slots × 128 bytes), then the next chunk.
+//
+// The values are the lane kernel's, bit for bit: arithmetic, square roots, min, max, select,
+// sign and the R-operations are emitted as the same IEEE operations in the same order
+// (-ffp-contract=off keeps the C++ side unfused); every other operation calls the lane kernel
+// itself for the chunk. Lanes are independent, so running the tape chunk by chunk instead of
+// instruction by instruction changes no value.
+#pragma once
+
+#include "interp/tape.hpp"
+
+#include <cstddef>
+#include <memory>
+#include <vector>
+
+namespace fortu {
+
+/// One worker's memory for running a CompiledTape: the chunk's internal slots, the constant
+/// operands converted to T, and slot pointers for the tail that is not a whole chunk.
+template <class T>
+struct JitScratch {
+    std::vector<T> slots;
+    std::vector<T> constants;
+    std::vector<T*> tail_slots;
+    const Instruction* constants_of = nullptr;   ///< the code `constants` was read from
+};
+
+template <class T>
+class CompiledTape {
+public:
+    /// Lanes per chunk: four AVX2 vectors.
+    static constexpr int kChunkLanes = 4 * 32 / static_cast<int>(sizeof(T));
+
+    /// The tape compiled for this CPU; nullptr where there is no AVX2 or code cannot be made.
+    static std::unique_ptr<CompiledTape> compile(const Tape& tape);
+    ~CompiledTape();
+    CompiledTape(const CompiledTape&) = delete;
+    CompiledTape& operator=(const CompiledTape&) = delete;
+
+    /// As run_lanes(code, count, slots, lanes): `code` is the tape's code or a copy with other
+    /// constant operands (the voxel engine patches per-row values in); pass
+    /// `constants_changed` when its constants differ from those of the previous call with
+    /// the same scratch. Slots the tape only uses inside (neither arguments, inputs,
+    /// constants nor outputs) are not written.
+    void run(const Instruction* code, std::size_t count, T* const* slots, int lanes, JitScratch<T>& scratch,
+             bool constants_changed) const;
+
+    std::size_t code_bytes() const { return code_bytes_; }
+
+    struct Site;        ///< an instruction the compiled code hands back to the lane kernel
+    struct Compiled;    ///< the machine code and what it reads
+
+private:
+    CompiledTape() = default;
+    std::unique_ptr<Compiled> compiled_;
+    std::size_t code_bytes_ = 0;
+};
+
+/// Whether CompiledTape::compile can succeed on this CPU (AVX2).
+bool tape_jit_available();
+
+}  // namespace fortu

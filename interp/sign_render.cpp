@@ -38,6 +38,7 @@ struct Box {
 /// prospero.vm 1024² 15 ms with 8×8 leaves, 13 ms with 16×16, 16 ms with 32×32; in 3D, 6³
 /// leaves were slower than 4³ on bear.vm 128³ (129 against 117 ms).
 constexpr int kLeafLanes = 256;
+constexpr int kLeafLanes3d = 64;
 
 struct Scratch {
     std::vector<Interval> ranges;
@@ -61,6 +62,14 @@ Value stored_sign(double sign) {
     else return sign != sign ? SignVolume::kNaN : static_cast<int8_t>(sign);
 }
 
+/// The stored sign of a value, without branches (the leaves' store loop vectorises):
+/// 1, 0 (±0), -1, or NaN / kNaN.
+template <class Value>
+Value stored_sign_of(double v) {
+    if constexpr (std::is_same_v<Value, double>) return ir::k_sign(v);
+    else return static_cast<int8_t>(int((v > 0) - (v < 0)) | (int(v != v) << 7));  // NaN: 0x80 = kNaN
+}
+
 /// The signs start as outside (−1) and boxes decided outside are not written again: most of a
 /// domain is usually outside, and rewriting it row by row cost more than its intervals
 /// (tanglecube.vm 256³: a quarter of the evaluation's instructions, in rows of 4–16 bytes).
@@ -72,7 +81,11 @@ public:
     using Value = typename Signs::value_type;
 
     Renderer(const Grid& grid, Signs& signs, int leaf_extent)
-        : grid_(grid), signs_(signs), leaf_extent_(leaf_extent) {}
+        : grid_(grid), signs_(signs), leaf_extent_(leaf_extent) {
+        for (int c = 0; c < grid.cols(); ++c) x_.push_back(grid.x_at(c));
+        for (int j = 0; j < grid.rows(); ++j) y_.push_back(grid.y_at(j));
+        for (int k = 0; k < grid.slices(); ++k) z_.push_back(grid.z_at(k));
+    }
 
     /// Evaluates the box's intervals: the sign of the whole box when they decide it;
     /// otherwise simplifies `tape` into `simplified` and returns nullopt.
@@ -127,23 +140,27 @@ public:
             s.slots.resize(s.lanes.size() / kLeafLanes);
             for (std::size_t k = 0; k < s.slots.size(); ++k) s.slots[k] = s.lanes.data() + k * kLeafLanes;
         }
+        // Lanes run X fastest, then Y, then Z, as the grid stores them: a row of the box is a
+        // copy of the precomputed column coordinates, or one repeated Y or Z.
+        const int width = box.hi[0] - box.lo[0] + 1;
         for (auto [slot, axis] : tape.arguments) {
             double* out = s.slots[slot];
-            int l = 0;
             for (int k = box.lo[2]; k <= box.hi[2]; ++k)
-                for (int j = box.lo[1]; j <= box.hi[1]; ++j)
-                    for (int c = box.lo[0]; c <= box.hi[0]; ++c)
-                        out[l++] = axis == 0 ? grid_.x_at(c) : axis == 1 ? grid_.y_at(j) : grid_.z_at(k);
+                for (int j = box.lo[1]; j <= box.hi[1]; ++j, out += width) {
+                    if (axis == 0) std::copy_n(x_.data() + box.lo[0], width, out);
+                    else std::fill_n(out, width, axis == 1 ? y_[j] : z_[k]);
+                }
         }
         for (auto [slot, value] : tape.constants) std::fill_n(s.slots[slot], n, value);
         if (n == kLeafLanes) run_lanes<double, kLeafLanes>(tape.code.data(), tape.code.size(), s.slots.data(), n);
+        else if (n == kLeafLanes3d) run_lanes<double, kLeafLanes3d>(tape.code.data(), tape.code.size(), s.slots.data(), n);
         else run_lanes<double, 0>(tape.code.data(), tape.code.size(), s.slots.data(), n);
         const double* result = s.slots[tape.root_slot];
-        int l = 0;
         for (int k = box.lo[2]; k <= box.hi[2]; ++k)
-            for (int j = box.lo[1]; j <= box.hi[1]; ++j)
-                for (int c = box.lo[0]; c <= box.hi[0]; ++c, ++l)
-                    signs_[grid_.index(c, j, k)] = stored_sign<Value>(ir::k_sign(result[l]));
+            for (int j = box.lo[1]; j <= box.hi[1]; ++j, result += width) {
+                Value* row = signs_.data() + grid_.index(box.lo[0], j, k);
+                for (int c = 0; c < width; ++c) row[c] = stored_sign_of<Value>(result[c]);
+            }
         st.leaf_points += n;
         st.leaf_operations += std::size_t(n) * tape.code.size();
     }
@@ -158,14 +175,15 @@ public:
 
 private:
     Interval axis_interval(const Box& box, int axis) const {
-        auto at = [&](int i) { return axis == 0 ? grid_.x_at(i) : axis == 1 ? grid_.y_at(i) : grid_.z_at(i); };
-        const double p = at(box.lo[axis]), q = at(box.hi[axis]);
+        const std::vector<double>& at = axis == 0 ? x_ : axis == 1 ? y_ : z_;
+        const double p = at[box.lo[axis]], q = at[box.hi[axis]];
         return {std::min(p, q), std::max(p, q), false};
     }
 
     const Grid& grid_;
     Signs& signs_;
     int leaf_extent_;
+    std::vector<double> x_, y_, z_;   ///< the grid's coordinates per column, row, slice
 };
 
 /// The render into `signs` (grid.points() of them, allocated here).

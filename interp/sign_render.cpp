@@ -34,16 +34,23 @@ struct Box {
     }
 };
 
-/// Leaf boxes hold at most 16×16 points in 2D, 4×4×4 in 3D: small enough that a box
+/// Leaf boxes hold at most 16×16 points in 2D, 8×8×8 in 3D: small enough that a box
 /// straddling the boundary wastes little, large enough that the lane loops run long and the
 /// most numerous boxes, the smallest, need no interval pass. Measured (one thread, min of 7):
-/// prospero.vm 1024² 15 ms with 8×8 leaves, 13 ms with 16×16, 16 ms with 32×32; in 3D, 6³
-/// leaves were slower than 4³ on bear.vm 128³ (129 against 117 ms).
+/// prospero.vm 1024² 15 ms with 8×8 leaves, 13 ms with 16×16, 16 ms with 32×32. In 3D, 4³
+/// leaves were best while leaves ran in float64 (6³ slower on bear.vm 128³: 129 against
+/// 117 ms); with float32 leaves, whose bound pass costs a tape's length per leaf, 8³ leaves
+/// skip the interval pass of the most numerous boxes (tanglecube.vm 256³: 2,441 boxes, not
+/// 7,561), and a leaf whose bound fails still splits to 4³ (kSplitLeafExtent3d).
 constexpr int kLeafLanes = 256;
 constexpr int kLeafExtent3d = 8;
 constexpr int kLeafLanes3d = kLeafExtent3d * kLeafExtent3d * kLeafExtent3d;
 /// Lanes per slot in the leaves' arrays: the larger leaf.
 constexpr int kLaneStride = std::max(kLeafLanes, kLeafLanes3d);
+
+/// 3D leaves whose float32 bound is not finite split down to this extent before float64.
+constexpr int kSplitLeafExtent3d = 4;
+constexpr double kUnbounded = std::numeric_limits<double>::infinity();
 
 struct Scratch {
     std::vector<Interval> ranges;
@@ -135,7 +142,15 @@ public:
             return;
         }
         if (is_leaf(box)) {
-            evaluate_points(box, simplified, s, st);
+            const double bound = float32_bound(box, simplified, s);
+            // A 3D leaf whose float32 bound is not finite over the whole box: its parts have
+            // tighter intervals (bear.vm's sums of exponentials), so they try again; the
+            // float64 lanes that remain, 64 where they were 512, carry libm's scalar calls.
+            if (!(bound < kUnbounded) && grid_.slices() > 1 && box.hi[0] - box.lo[0] + 1 > kSplitLeafExtent3d) {
+                for (const Box& child : split(box)) render(child, simplified, s, depth + 1, st);
+                return;
+            }
+            evaluate_points(box, simplified, bound, s, st);
             return;
         }
         for (const Box& child : split(box)) render(child, simplified, s, depth + 1, st);
@@ -179,13 +194,19 @@ public:
             }
     }
 
+    /// The float32 error bound of `tape` over the box (float32_bound.hpp); kUnbounded for
+    /// tapes too long to run in SSA slots.
+    double float32_bound(const Box& box, const Tape& tape, Scratch& s) const {
+        if (tape.slot_count > kReallocateAboveSlots) return kUnbounded;
+        evaluate_intervals(tape, {axis_interval(box, 0), axis_interval(box, 1), axis_interval(box, 2)}, s.leaf_ranges);
+        return float32_error_bound(tape, s.leaf_ranges, s.errors);
+    }
+
     /// The leaf in float32 (twice the lanes per vector, SLEEF's transcendentals): done when
     /// every point's |value| exceeds the bound on its distance to the float64 value
     /// (float32_bound.hpp), so its sign is the float64 sign; false leaves it to float64.
-    bool evaluate_points_float32(const Box& box, const Tape& tape, Scratch& s) {
-        evaluate_intervals(tape, {axis_interval(box, 0), axis_interval(box, 1), axis_interval(box, 2)}, s.leaf_ranges);
-        const double bound = float32_error_bound(tape, s.leaf_ranges, s.errors);
-        if (!(bound < std::numeric_limits<double>::infinity())) return false;
+    bool evaluate_points_float32(const Box& box, const Tape& tape, double bound, Scratch& s) {
+        if (!(bound < kUnbounded)) return false;
         const int n = static_cast<int>(box.points());
         if (s.lanes32.size() < std::size_t(tape.slot_count) * kLaneStride) {
             s.lanes32.resize(std::size_t(tape.slot_count) * kLaneStride);
@@ -240,8 +261,9 @@ public:
         }
     }
 
-    void evaluate_points(const Box& box, const Tape& ssa, Scratch& s, SignRenderStats& st) {
-        if (ssa.slot_count <= kReallocateAboveSlots && evaluate_points_float32(box, ssa, s)) {
+    /// The leaf's points: in float32 where `bound` (float32_bound) allows, else in float64.
+    void evaluate_points(const Box& box, const Tape& ssa, double bound, Scratch& s, SignRenderStats& st) {
+        if (ssa.slot_count <= kReallocateAboveSlots && evaluate_points_float32(box, ssa, bound, s)) {
             st.leaf_points += box.points();
             st.leaf_operations += box.points() * ssa.code.size();
             return;

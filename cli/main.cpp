@@ -279,10 +279,10 @@ int command_run_files(const CliOptions& o) {
         eval.on_step = [&steps](const EvalStep& step) { (*steps)(step); };
     }
     Stopwatch clock;
-    // A 3D sign volume stays int8 (SignVolume); float64 only if a file or a comparison needs values.
+    // Signs stay int8 (SignVolume); float64 only if a file or a comparison needs values.
     std::optional<SignVolume> signs;
     Field field;
-    if (grid.dims == 3 && eval.steps.empty() && dynamic_cast<const SignEngine*>(engine.get()))
+    if (eval.steps.empty() && dynamic_cast<const SignEngine*>(engine.get()))
         signs = sign_render_volume(model->graph, model->root, grid, eval);
     else
         field = evaluate_grid(*model, grid, *engine, eval);

@@ -62,23 +62,6 @@ BoxScratch::Value constant_value(double number) { return {0, true, number}; }
 
 }  // namespace
 
-void evaluate_intervals(const Tape& tape, const std::array<Interval, 3>& axes, std::vector<Interval>& ranges) {
-    ranges.resize(tape.slot_count);
-    for (auto [slot, axis] : tape.arguments) ranges[slot] = axes[axis];
-    for (auto [slot, value] : tape.constants) ranges[slot] = {value, value, false};
-    for (const Instruction& ins : tape.code) {
-        if (ins.constant_operands == 0) {
-            // The common case, without copies: unused operands read the zero slot's range.
-            ranges[ins.out] = interval_op(ins.op, ranges[ins.in[0]], ranges[ins.in[1]], ranges[ins.in[2]], ins.imm);
-            continue;
-        }
-        const Interval a = operand_range(ins, 0, ranges);
-        const Interval b = operand_range(ins, 1, ranges);
-        const Interval c = operand_range(ins, 2, ranges);
-        ranges[ins.out] = interval_op(ins.op, a, b, c, ins.imm);
-    }
-}
-
 void simplify_for_sign(const Tape& tape, const std::vector<Interval>& ranges, BoxScratch& s, Tape& out,
                        bool keep_values) {
     const uint32_t slots = tape.slot_count;
@@ -145,7 +128,9 @@ void simplify_for_sign(const Tape& tape, const std::vector<Interval>& ranges, Bo
             s.renamed[ins.out] = s.renamed[rep.slot];
             continue;
         }
-        Instruction kept = ins;
+        // Built in place: a copy assembled on the stack and pushed cost a store-forwarding
+        // stall per instruction (a fifth of this pass on prospero.vm).
+        Instruction& kept = out.code.emplace_back(ins);
         for (int k = 0; k < ir::op_arity(ins.op); ++k) {
             if (is_immediate(ins, k)) continue;
             const BoxScratch::Value& v = s.renamed[ins.in[k]];
@@ -159,7 +144,6 @@ void simplify_for_sign(const Tape& tape, const std::vector<Interval>& ranges, Bo
         }
         kept.out = next_slot++;
         s.renamed[ins.out] = {kept.out, false, 0.0};
-        out.code.push_back(kept);
     }
     const BoxScratch::Value root = s.renamed[tape.root_slot];
     if (root.constant) {

@@ -21,11 +21,6 @@
 
 namespace fortu {
 
-/// The range of every slot of `tape` over a box whose coordinates range over `axes`
-/// (X, Y, Z). `tape` must be in SSA form (TapeSpec::reuse_slots false: one slot per value),
-/// so `ranges[slot]` is the range of the one value that slot holds.
-void evaluate_intervals(const Tape& tape, const std::array<Interval, 3>& axes, std::vector<Interval>& ranges);
-
 /// Working memory of simplify_for_sign, reused from box to box.
 struct BoxScratch {
     struct Value {

@@ -10,7 +10,9 @@
 
 #include "interp/ir/ir.hpp"
 
+#include <array>
 #include <limits>
+#include <vector>
 
 namespace fortu {
 
@@ -32,5 +34,12 @@ inline constexpr Interval kUnknownInterval{-std::numeric_limits<double>::infinit
 /// The range of op(a, b, c) (imm: the node's immediate) given its operands' ranges.
 /// Const and Arg are not handled here (the caller knows the box).
 Interval interval_op(ir::Op op, const Interval& a, const Interval& b, const Interval& c, double imm);
+
+struct Tape;
+
+/// The range of every slot of `tape` over a box whose coordinates range over `axes`
+/// (X, Y, Z). `tape` must be in SSA form (TapeSpec::reuse_slots false: one slot per value),
+/// so `ranges[slot]` is the range of the one value that slot holds.
+void evaluate_intervals(const Tape& tape, const std::array<Interval, 3>& axes, std::vector<Interval>& ranges);
 
 }  // namespace fortu

@@ -5,6 +5,7 @@
 
 #include "interp/box_halving.hpp"
 #include "interp/box_simplify.hpp"
+#include "interp/float32_bound.hpp"
 #include "interp/interval.hpp"
 #include "interp/lane_kernel.hpp"
 #include "interp/parallel.hpp"
@@ -13,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -32,18 +34,34 @@ struct Box {
     }
 };
 
-/// Leaf boxes hold at most 16×16 points in 2D, 4×4×4 in 3D: small enough that a box
+/// Leaf boxes hold at most 16×16 points in 2D, 8×8×8 in 3D: small enough that a box
 /// straddling the boundary wastes little, large enough that the lane loops run long and the
 /// most numerous boxes, the smallest, need no interval pass. Measured (one thread, min of 7):
-/// prospero.vm 1024² 15 ms with 8×8 leaves, 13 ms with 16×16, 16 ms with 32×32; in 3D, 6³
-/// leaves were slower than 4³ on bear.vm 128³ (129 against 117 ms).
+/// prospero.vm 1024² 15 ms with 8×8 leaves, 13 ms with 16×16, 16 ms with 32×32. In 3D, 4³
+/// leaves were best while leaves ran in float64 (6³ slower on bear.vm 128³: 129 against
+/// 117 ms); with float32 leaves, whose bound pass costs a tape's length per leaf, 8³ leaves
+/// skip the interval pass of the most numerous boxes (tanglecube.vm 256³: 2,441 boxes, not
+/// 7,561), and a leaf whose bound fails still splits to 4³ (kSplitLeafExtent3d).
 constexpr int kLeafLanes = 256;
+constexpr int kLeafExtent3d = 8;
+constexpr int kLeafLanes3d = kLeafExtent3d * kLeafExtent3d * kLeafExtent3d;
+/// Lanes per slot in the leaves' arrays: the larger leaf.
+constexpr int kLaneStride = std::max(kLeafLanes, kLeafLanes3d);
+
+/// 3D leaves whose float32 bound is not finite split down to this extent before float64.
+constexpr int kSplitLeafExtent3d = 4;
+constexpr double kUnbounded = std::numeric_limits<double>::infinity();
 
 struct Scratch {
     std::vector<Interval> ranges;
     BoxScratch box;
     std::vector<double> lanes;
     std::vector<double*> slots;
+    std::vector<float> lanes32;
+    std::vector<float*> slots32;
+    std::vector<Interval> leaf_ranges;
+    std::vector<double> errors;
+    std::vector<std::size_t> close_points;    ///< grid indices rechecked in float64
     std::vector<std::unique_ptr<Tape>> tapes;  ///< one per recursion depth
     Tape leaf_tape;                             ///< a long leaf tape in max-live slots
     SlotScratch slot_scratch;
@@ -61,6 +79,14 @@ Value stored_sign(double sign) {
     else return sign != sign ? SignVolume::kNaN : static_cast<int8_t>(sign);
 }
 
+/// The stored sign of a value, without branches (the leaves' store loop vectorises):
+/// 1, 0 (±0), -1, or NaN / kNaN.
+template <class Value, class F>
+Value stored_sign_of(F v) {
+    if constexpr (std::is_same_v<Value, double>) return double(ir::k_sign(v));
+    else return static_cast<int8_t>(int((v > 0) - (v < 0)) | (int(v != v) << 7));  // NaN: 0x80 = kNaN
+}
+
 /// The signs start as outside (−1) and boxes decided outside are not written again: most of a
 /// domain is usually outside, and rewriting it row by row cost more than its intervals
 /// (tanglecube.vm 256³: a quarter of the evaluation's instructions, in rows of 4–16 bytes).
@@ -72,7 +98,14 @@ public:
     using Value = typename Signs::value_type;
 
     Renderer(const Grid& grid, Signs& signs, int leaf_extent)
-        : grid_(grid), signs_(signs), leaf_extent_(leaf_extent) {}
+        : grid_(grid), signs_(signs), leaf_extent_(leaf_extent) {
+        for (int c = 0; c < grid.cols(); ++c) x_.push_back(grid.x_at(c));
+        for (int j = 0; j < grid.rows(); ++j) y_.push_back(grid.y_at(j));
+        for (int k = 0; k < grid.slices(); ++k) z_.push_back(grid.z_at(k));
+        x32_.assign(x_.begin(), x_.end());
+        y32_.assign(y_.begin(), y_.end());
+        z32_.assign(z_.begin(), z_.end());
+    }
 
     /// Evaluates the box's intervals: the sign of the whole box when they decide it;
     /// otherwise simplifies `tape` into `simplified` and returns nullopt.
@@ -109,41 +142,144 @@ public:
             return;
         }
         if (is_leaf(box)) {
-            evaluate_points(box, simplified, s, st);
+            const double bound = float32_bound(box, simplified, s);
+            // A 3D leaf whose float32 bound is not finite over the whole box: its parts have
+            // tighter intervals (bear.vm's sums of exponentials), so they try again; the
+            // float64 lanes that remain, 64 where they were 512, carry libm's scalar calls.
+            if (!(bound < kUnbounded) && grid_.slices() > 1 && box.hi[0] - box.lo[0] + 1 > kSplitLeafExtent3d) {
+                for (const Box& child : split(box)) render(child, simplified, s, depth + 1, st);
+                return;
+            }
+            evaluate_points(box, simplified, bound, s, st);
             return;
         }
         for (const Box& child : split(box)) render(child, simplified, s, depth + 1, st);
     }
 
-    void evaluate_points(const Box& box, const Tape& ssa, Scratch& s, SignRenderStats& st) {
-        if (ssa.slot_count > kReallocateAboveSlots) reallocate_slots(ssa, s.leaf_tape, s.slot_scratch);
-        const Tape& tape = ssa.slot_count > kReallocateAboveSlots ? s.leaf_tape : ssa;
+    /// Calls body(width) with the box's width as a compile-time constant for the leaves'
+    /// usual widths (16 in 2D, kLeafExtent3d in 3D), so their row loops unroll; 0 otherwise.
+    template <class Body>
+    static void with_width(const Box& box, Body body) {
+        const int width = box.hi[0] - box.lo[0] + 1;
+        if (width == 16) body(std::integral_constant<int, 16>{});
+        else if (width == kLeafExtent3d) body(std::integral_constant<int, kLeafExtent3d>{});
+        else body(std::integral_constant<int, 0>{});
+    }
+
+    /// The argument lanes of a box: X fastest, then Y, then Z, as the grid stores them, so a
+    /// row is a copy of the column coordinates or one repeated Y or Z.
+    template <int kWidth, class F>
+    void fill_arguments(const Box& box, const Tape& tape, F* const* slots, const std::vector<F>& xs,
+                        const std::vector<F>& ys, const std::vector<F>& zs) const {
+        const int width = kWidth > 0 ? kWidth : box.hi[0] - box.lo[0] + 1;
+        for (auto [slot, axis] : tape.arguments) {
+            F* out = slots[slot];
+            const F* x = xs.data() + box.lo[0];
+            for (int k = box.lo[2]; k <= box.hi[2]; ++k)
+                for (int j = box.lo[1]; j <= box.hi[1]; ++j, out += width) {
+                    const F value = axis == 1 ? ys[j] : zs[k];
+                    for (int c = 0; c < width; ++c) out[c] = axis == 0 ? x[c] : value;
+                }
+        }
+    }
+
+    /// The signs of a leaf's lane results (in the box's order) into the grid.
+    template <int kWidth, class F>
+    void store_signs(const Box& box, const F* result) {
+        const int width = kWidth > 0 ? kWidth : box.hi[0] - box.lo[0] + 1;
+        for (int k = box.lo[2]; k <= box.hi[2]; ++k)
+            for (int j = box.lo[1]; j <= box.hi[1]; ++j, result += width) {
+                Value* row = signs_.data() + grid_.index(box.lo[0], j, k);
+                for (int c = 0; c < width; ++c) row[c] = stored_sign_of<Value>(result[c]);
+            }
+    }
+
+    /// The float32 error bound of `tape` over the box (float32_bound.hpp); kUnbounded for
+    /// tapes too long to run in SSA slots.
+    double float32_bound(const Box& box, const Tape& tape, Scratch& s) const {
+        if (tape.slot_count > kReallocateAboveSlots) return kUnbounded;
+        evaluate_intervals(tape, {axis_interval(box, 0), axis_interval(box, 1), axis_interval(box, 2)}, s.leaf_ranges);
+        return float32_error_bound(tape, s.leaf_ranges, s.errors);
+    }
+
+    /// The leaf in float32 (twice the lanes per vector, SLEEF's transcendentals): done when
+    /// every point's |value| exceeds the bound on its distance to the float64 value
+    /// (float32_bound.hpp), so its sign is the float64 sign; false leaves it to float64.
+    bool evaluate_points_float32(const Box& box, const Tape& tape, double bound, Scratch& s) {
+        if (!(bound < kUnbounded)) return false;
         const int n = static_cast<int>(box.points());
-        if (s.lanes.size() < std::size_t(tape.slot_count) * kLeafLanes) {
-            s.lanes.resize(std::size_t(tape.slot_count) * kLeafLanes);
+        if (s.lanes32.size() < std::size_t(tape.slot_count) * kLaneStride) {
+            s.lanes32.resize(std::size_t(tape.slot_count) * kLaneStride);
+            s.slots32.resize(tape.slot_count);
+            for (std::size_t k = 0; k < s.slots32.size(); ++k) s.slots32[k] = s.lanes32.data() + k * kLaneStride;
+        }
+        with_width(box, [&](auto width) { fill_arguments<width()>(box, tape, s.slots32.data(), x32_, y32_, z32_); });
+        for (auto [slot, value] : tape.constants) std::fill_n(s.slots32[slot], n, float(value));
+        if (n == kLeafLanes) run_lanes<float, kLeafLanes>(tape.code.data(), tape.code.size(), s.slots32.data(), n);
+        else if (n == kLeafLanes3d) run_lanes<float, kLeafLanes3d>(tape.code.data(), tape.code.size(), s.slots32.data(), n);
+        else run_lanes<float, 0>(tape.code.data(), tape.code.size(), s.slots32.data(), n);
+        const float* result = s.slots32[tape.root_slot];
+        // Rounded up, so |value| > limit implies |value| > bound.
+        const float limit = std::nextafter(static_cast<float>(bound), std::numeric_limits<float>::infinity());
+        int close = 0;
+        for (int l = 0; l < n; ++l) close += !(std::abs(result[l]) > limit);  // NaN counts as close
+        if (close * 4 > n) return false;   // most points again: the whole box in float64
+        with_width(box, [&](auto width) { store_signs<width()>(box, result); });
+        if (close > 0) recheck_float64(box, tape, s, limit);
+        return true;
+    }
+
+    /// The points of a float32 leaf whose |value| is within the bound (or NaN) evaluated again
+    /// in float64, packed into the first lanes.
+    void recheck_float64(const Box& box, const Tape& tape, Scratch& s, float limit) {
+        prepare_float64_lanes(tape, s);
+        const float* result = s.slots32[tape.root_slot];
+        s.close_points.clear();
+        const int width = box.hi[0] - box.lo[0] + 1, height = box.hi[1] - box.lo[1] + 1;
+        for (int l = 0; l < int(box.points()); ++l) {
+            if (std::abs(result[l]) > limit) continue;
+            const int c = box.lo[0] + l % width, j = box.lo[1] + (l / width) % height, k = box.lo[2] + l / (width * height);
+            const int lane = static_cast<int>(s.close_points.size());
+            for (auto [slot, axis] : tape.arguments) s.slots[slot][lane] = axis == 0 ? x_[c] : axis == 1 ? y_[j] : z_[k];
+            s.close_points.push_back(grid_.index(c, j, k));
+        }
+        const int n = static_cast<int>(s.close_points.size());
+        for (auto [slot, value] : tape.constants) std::fill_n(s.slots[slot], n, value);
+        run_lanes<double, 0>(tape.code.data(), tape.code.size(), s.slots.data(), n);
+        for (int lane = 0; lane < n; ++lane)
+            signs_[s.close_points[lane]] = stored_sign_of<Value>(s.slots[tape.root_slot][lane]);
+    }
+
+    void prepare_float64_lanes(const Tape& tape, Scratch& s) {
+        if (s.lanes.size() < std::size_t(tape.slot_count) * kLaneStride) {
+            s.lanes.resize(std::size_t(tape.slot_count) * kLaneStride);
             s.slots.clear();
         }
         if (s.slots.size() < tape.slot_count) {
-            s.slots.resize(s.lanes.size() / kLeafLanes);
-            for (std::size_t k = 0; k < s.slots.size(); ++k) s.slots[k] = s.lanes.data() + k * kLeafLanes;
+            s.slots.resize(s.lanes.size() / kLaneStride);
+            for (std::size_t k = 0; k < s.slots.size(); ++k) s.slots[k] = s.lanes.data() + k * kLaneStride;
         }
-        for (auto [slot, axis] : tape.arguments) {
-            double* out = s.slots[slot];
-            int l = 0;
-            for (int k = box.lo[2]; k <= box.hi[2]; ++k)
-                for (int j = box.lo[1]; j <= box.hi[1]; ++j)
-                    for (int c = box.lo[0]; c <= box.hi[0]; ++c)
-                        out[l++] = axis == 0 ? grid_.x_at(c) : axis == 1 ? grid_.y_at(j) : grid_.z_at(k);
+    }
+
+    /// The leaf's points: in float32 where `bound` (float32_bound) allows, else in float64.
+    void evaluate_points(const Box& box, const Tape& ssa, double bound, Scratch& s, SignRenderStats& st) {
+        if (ssa.slot_count <= kReallocateAboveSlots && evaluate_points_float32(box, ssa, bound, s)) {
+            st.leaf_points += box.points();
+            st.leaf_operations += box.points() * ssa.code.size();
+            return;
         }
+        ++st.float64_leaves;
+        if (ssa.slot_count > kReallocateAboveSlots) reallocate_slots(ssa, s.leaf_tape, s.slot_scratch);
+        const Tape& tape = ssa.slot_count > kReallocateAboveSlots ? s.leaf_tape : ssa;
+        const int n = static_cast<int>(box.points());
+        prepare_float64_lanes(tape, s);
+        with_width(box, [&](auto width) { fill_arguments<width()>(box, tape, s.slots.data(), x_, y_, z_); });
         for (auto [slot, value] : tape.constants) std::fill_n(s.slots[slot], n, value);
         if (n == kLeafLanes) run_lanes<double, kLeafLanes>(tape.code.data(), tape.code.size(), s.slots.data(), n);
+        else if (n == kLeafLanes3d) run_lanes<double, kLeafLanes3d>(tape.code.data(), tape.code.size(), s.slots.data(), n);
         else run_lanes<double, 0>(tape.code.data(), tape.code.size(), s.slots.data(), n);
         const double* result = s.slots[tape.root_slot];
-        int l = 0;
-        for (int k = box.lo[2]; k <= box.hi[2]; ++k)
-            for (int j = box.lo[1]; j <= box.hi[1]; ++j)
-                for (int c = box.lo[0]; c <= box.hi[0]; ++c, ++l)
-                    signs_[grid_.index(c, j, k)] = stored_sign<Value>(ir::k_sign(result[l]));
+        with_width(box, [&](auto width) { store_signs<width()>(box, result); });
         st.leaf_points += n;
         st.leaf_operations += std::size_t(n) * tape.code.size();
     }
@@ -158,14 +294,16 @@ public:
 
 private:
     Interval axis_interval(const Box& box, int axis) const {
-        auto at = [&](int i) { return axis == 0 ? grid_.x_at(i) : axis == 1 ? grid_.y_at(i) : grid_.z_at(i); };
-        const double p = at(box.lo[axis]), q = at(box.hi[axis]);
+        const std::vector<double>& at = axis == 0 ? x_ : axis == 1 ? y_ : z_;
+        const double p = at[box.lo[axis]], q = at[box.hi[axis]];
         return {std::min(p, q), std::max(p, q), false};
     }
 
     const Grid& grid_;
     Signs& signs_;
     int leaf_extent_;
+    std::vector<double> x_, y_, z_;   ///< the grid's coordinates per column, row, slice
+    std::vector<float> x32_, y32_, z32_;  ///< the same rounded to float32
 };
 
 /// The render into `signs` (grid.points() of them, allocated here).
@@ -185,7 +323,7 @@ void render_signs(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
             allocation_failure = std::current_exception();
         }
     });
-    Renderer<Signs> renderer(grid, signs, grid.slices() > 1 ? 4 : 16);
+    Renderer<Signs> renderer(grid, signs, grid.slices() > 1 ? kLeafExtent3d : 16);
     const int threads = resolve_threads(options.threads);
     std::vector<Scratch> scratch(threads);
     std::vector<SignRenderStats> worker_stats(threads);
@@ -256,6 +394,7 @@ void render_signs(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
             total.decided_points += w.decided_points;
             total.leaf_points += w.leaf_points;
             total.leaf_operations += w.leaf_operations;
+            total.float64_leaves += w.float64_leaves;
         }
         *stats = total;
     }

@@ -30,6 +30,7 @@ struct SignRenderStats {
     std::size_t decided_points = 0; ///< points whose sign came from a box's interval
     std::size_t leaf_points = 0;    ///< points evaluated one by one (on a simplified tape)
     std::size_t leaf_operations = 0;///< tape operations run per point, summed over leaf points
+    std::size_t float64_leaves = 0; ///< leaf boxes run in float64 (the others in float32 within a proven bound)
 };
 
 /// The sign of the model at every grid node: 1 inside, 0 on the boundary, -1 outside, NaN

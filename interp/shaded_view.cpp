@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <limits>
 #include <memory>
 
 namespace fortu {
@@ -25,7 +26,6 @@ constexpr double kPi = 3.14159265358979323846;
 /// with 8 × 8 × 8, on a loaded machine).
 constexpr int kLeafPixels = 4;
 constexpr int kLeafDepth = 32;
-constexpr int kLeafLanes = kLeafPixels * kLeafPixels * kLeafDepth;
 // Regions split in two, so a level removes little of the tape: shortening it every fifth level
 // (and at the leaves) spent 15-20% less time than every level on bear.vm and the pawn at 512²
 // (one thread, median of 5; every 2nd or 3rd level in between), with the same pictures.
@@ -97,15 +97,38 @@ struct Hit {
     Vec at;
 };
 
+/// A pixel's first float32 sample at or inside the surface, to check in float64.
+struct Candidate {
+    int col, row, k;
+    int last;   ///< the last sample of the region in front of the pixel's hit so far
+};
+
+/// Lane arrays of one scalar type: slot k's lanes at slots[k].
+template <class T>
+struct Lanes {
+    std::vector<T> values;
+    std::vector<T*> slots;
+    void prepare(std::size_t slot_count, int lanes) {
+        if (values.size() < slot_count * lanes) values.resize(slot_count * lanes);
+        slots.resize(slot_count);
+        for (std::size_t k = 0; k < slot_count; ++k) slots[k] = values.data() + k * lanes;
+    }
+};
+
+constexpr double kNoValue = std::numeric_limits<double>::quiet_NaN();
+
 struct Scratch {
     std::vector<Hit> hits;
+    std::vector<Candidate> candidates;
+    Lanes<float> float_lanes;
+    Lanes<double> double_lanes;
+    Lanes<double> column_lanes;
+    std::size_t float32_false_hits = 0;
     std::vector<Interval> ranges;
     BoxScratch box;
     std::vector<std::unique_ptr<Tape>> tapes;
     Tape leaf_tape;          ///< the leaf's tape in max-live slots (reallocate_slots)
     SlotScratch slot_scratch;
-    std::vector<double> lanes;
-    std::vector<double*> slots;
     std::vector<ir::Dual> duals;
     std::vector<ir::Dual*> dual_slots;
 };
@@ -192,66 +215,115 @@ private:
         return true;
     }
 
-    void ensure_lanes(const Tape& tape, Scratch& s) const {
-        if (s.lanes.size() < std::size_t(tape.slot_count) * kLeafLanes) {
-            s.lanes.resize(std::size_t(tape.slot_count) * kLeafLanes);
-            s.slots.resize(tape.slot_count);
+    /// Fills the argument slots of `lanes` lanes of `slots` with the points of `points`
+    /// (one per lane: pixel column, row and depth sample).
+    template <class T, class PointOf>
+    void fill_arguments(const Tape& tape, T* const* slots, int lanes, PointOf point_of) const {
+        for (auto [slot, axis] : tape.arguments) {
+            T* out = slots[slot];
+            for (int l = 0; l < lanes; ++l) out[l] = static_cast<T>(point_of(l)[axis]);
         }
-        s.slots.resize(std::max<std::size_t>(s.slots.size(), tape.slot_count));
-        for (std::size_t k = 0; k < tape.slot_count; ++k) s.slots[k] = s.lanes.data() + k * kLeafLanes;
+        for (auto [slot, value] : tape.constants) std::fill_n(slots[slot], lanes, static_cast<T>(value));
     }
 
+    /// The leaf's samples run in float32 (SLEEF's vector exp/log, vector_math.hpp) only to
+    /// find, per pixel, the first sample at or inside the surface; that sample and the one
+    /// before it are then evaluated again in float64, so the hit's sign test and its
+    /// interpolated depth are the float64 ones. Where float64 disagrees with float32 (a value
+    /// within float32's rounding of zero), the pixel's whole column is redone in float64.
     void evaluate_leaf(const Region& r, const Tape& ssa, Scratch& s) {
         // Lanes cost slots × 512 points: SSA slots would cost a deep model gigabytes.
         reallocate_slots(ssa, s.leaf_tape, s.slot_scratch);
         const Tape& tape = s.leaf_tape;
-        ensure_lanes(tape, s);
         const int w = r.c1 - r.c0 + 1, h = r.r1 - r.r0 + 1, d = r.k1 - r.k0 + 1;
         const int n = w * h * d;
         // Lane order: pixel-major, depth within a pixel.
-        for (auto [slot, axis] : tape.arguments) {
-            double* out = s.slots[slot];
-            int l = 0;
-            for (int row = r.r0; row <= r.r1; ++row)
-                for (int col = r.c0; col <= r.c1; ++col)
-                    for (int k = r.k0; k <= r.k1; ++k) out[l++] = cam_.point(col, row, k)[axis];
+        const auto leaf_point = [&](int l) {
+            const int pixel = l / d;
+            return cam_.point(r.c0 + pixel % w, r.r0 + pixel / w, r.k0 + l % d);
+        };
+        Lanes<float>& f = s.float_lanes;
+        f.prepare(tape.slot_count, n);
+        fill_arguments(tape, f.slots.data(), n, leaf_point);
+        run_lanes<float, 0>(tape.code.data(), tape.code.size(), f.slots.data(), n);
+        const float* value32 = f.slots[tape.root_slot];
+
+        // Per pixel: the float32 candidate (first sample ≥ 0 in the box), checked in float64.
+        std::vector<Candidate>& cand = s.candidates;
+        cand.clear();
+        for (int p = 0; p < w * h; ++p) {
+            const int col = r.c0 + p % w, row = r.r0 + p / w;
+            const int last = std::min(r.k1, hit_sample(col, row) - 1);
+            for (int k = r.k0; k <= last; ++k) {
+                if (!(value32[p * d + (k - r.k0)] >= 0)) continue;
+                if (!in_box(cam_.point(col, row, k))) continue;
+                cand.push_back({col, row, k, last});
+                break;
+            }
         }
-        for (auto [slot, value] : tape.constants) std::fill_n(s.slots[slot], n, value);
-        run_lanes<double, 0>(tape.code.data(), tape.code.size(), s.slots.data(), n);
-        const double* value = s.slots[tape.root_slot];
         std::vector<Hit>& hits = s.hits;
         hits.clear();
-        int l = 0;
-        for (int row = r.r0; row <= r.r1; ++row)
-            for (int col = r.c0; col <= r.c1; ++col, l += d) {
-                const std::size_t pixel = std::size_t(row) * image_.width + col;
-                const int before = hit_sample(col, row);
-                for (int k = r.k0; k <= std::min(r.k1, before - 1); ++k) {
-                    const double v = value[l + (k - r.k0)];
-                    if (!(v >= 0)) continue;
-                    const Vec p = cam_.point(col, row, k);
-                    if (!in_box(p)) continue;
-                    // Between the previous sample (outside) and this one, where the values cross 0.
-                    double kk = k;
-                    bool cut = true;
-                    if (k > r.k0) {
-                        const double u = value[l + (k - r.k0) - 1];
-                        if (std::isfinite(u) && u < 0 && in_box(cam_.point(col, row, k - 1))) {
-                            kk = k - 1 + (-u) / (v - u);
-                            cut = false;
-                        }
-                    } else if (k > 0 && in_box(cam_.point(col, row, k - 1))) {
-                        cut = false;   // the previous sample is in another region: no interpolation
-                    }
-                    hit_k_[pixel] = k;
-                    image_.hit[pixel] = cut ? SurfaceImage::Hit::Cut : SurfaceImage::Hit::Surface;
-                    image_.depth[pixel] = static_cast<float>(kk / (cam_.depth_samples - 1));
-                    if (!cut) hits.push_back({pixel, cam_.point(col, row, kk)});
-                    else image_.normal[pixel] = {0.0f, 0.0f, 1.0f};
-                    break;
-                }
+        if (!cand.empty()) {
+            // Two float64 lanes per candidate: its sample and the one before it.
+            const int m = static_cast<int>(cand.size()) * 2;
+            Lanes<double>& g = s.double_lanes;
+            g.prepare(tape.slot_count, m);
+            fill_arguments(tape, g.slots.data(), m, [&](int l) {
+                const Candidate& c = cand[l / 2];
+                return cam_.point(c.col, c.row, c.k - 1 + l % 2);
+            });
+            run_lanes<double, 0>(tape.code.data(), tape.code.size(), g.slots.data(), m);
+            const double* value64 = g.slots[tape.root_slot];
+            for (std::size_t i = 0; i < cand.size(); ++i) {
+                const Candidate& c = cand[i];
+                const double before = value64[2 * i], at = value64[2 * i + 1];
+                const bool confirmed = at >= 0 && (c.k == r.k0 || !(before >= 0) ||
+                                                   !in_box(cam_.point(c.col, c.row, c.k - 1)));
+                if (confirmed) place_hit(r, c.col, c.row, c.k, c.k > r.k0 ? before : kNoValue, at, hits);
+                else redo_column_in_double(r, c, tape, s, hits);
             }
+        }
         normals(hits, tape, s);
+    }
+
+    /// The pixel's samples [r.k0, c.last] in float64, and the first at or inside the surface
+    /// placed as a hit (float32 was too close to zero to decide).
+    void redo_column_in_double(const Region& r, const Candidate& c, const Tape& tape, Scratch& s,
+                               std::vector<Hit>& hits) {
+        const int m = c.last - r.k0 + 1;
+        Lanes<double>& g = s.column_lanes;
+        g.prepare(tape.slot_count, m);
+        fill_arguments(tape, g.slots.data(), m, [&](int l) { return cam_.point(c.col, c.row, r.k0 + l); });
+        run_lanes<double, 0>(tape.code.data(), tape.code.size(), g.slots.data(), m);
+        const double* value = g.slots[tape.root_slot];
+        for (int k = r.k0; k <= c.last; ++k) {
+            if (!(value[k - r.k0] >= 0) || !in_box(cam_.point(c.col, c.row, k))) continue;
+            place_hit(r, c.col, c.row, k, k > r.k0 ? value[k - r.k0 - 1] : kNoValue, value[k - r.k0], hits);
+            return;
+        }
+        ++s.float32_false_hits;
+    }
+
+    /// Sample k of the pixel is the first at or inside the surface (value `at`), `before` is
+    /// the previous sample's value when it is in this region (else kNoValue): the hit goes
+    /// where the values cross zero between them, or is a cut by the domain's face.
+    void place_hit(const Region& r, int col, int row, int k, double before, double at, std::vector<Hit>& hits) {
+        const std::size_t pixel = std::size_t(row) * image_.width + col;
+        double kk = k;
+        bool cut = true;
+        if (k > r.k0) {
+            if (std::isfinite(before) && before < 0 && in_box(cam_.point(col, row, k - 1))) {
+                kk = k - 1 + (-before) / (at - before);
+                cut = false;
+            }
+        } else if (k > 0 && in_box(cam_.point(col, row, k - 1))) {
+            cut = false;   // the previous sample is in another region: no interpolation
+        }
+        hit_k_[pixel] = k;
+        image_.hit[pixel] = cut ? SurfaceImage::Hit::Cut : SurfaceImage::Hit::Surface;
+        image_.depth[pixel] = static_cast<float>(kk / (cam_.depth_samples - 1));
+        if (!cut) hits.push_back({pixel, cam_.point(col, row, kk)});
+        else image_.normal[pixel] = {0.0f, 0.0f, 1.0f};
     }
 
     /// The unit normals (outward: against the gradient, which points inside) at the hits.

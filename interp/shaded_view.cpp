@@ -1,6 +1,6 @@
 // interp/shaded_view.cpp — the front-to-back region walk (see shaded_view.hpp): tiles of the
 // picture on the worker threads, each refined depth-first with the sign renderer's
-// interval pass and tape simplification.
+// interval pass and tape simplification, down to leaves sampled in float32.
 #include "interp/shaded_view.hpp"
 
 #include "interp/box_simplify.hpp"
@@ -22,13 +22,19 @@ namespace {
 using Vec = std::array<double, 3>;
 
 constexpr double kPi = 3.14159265358979323846;
-/// Leaves: at most 4 × 4 pixels × 32 depth samples = 512 lanes (bear.vm 1024²: 6.9 s against 7.3 s
-/// with 8 × 8 × 8, on a loaded machine).
-constexpr int kLeafPixels = 4;
-constexpr int kLeafDepth = 32;
+/// Leaves: at most 8 × 8 pixels × 4 depth samples, sampled without an interval pass of their
+/// own (their parent's, over twice the depth, was just done: a leaf's own pass spared too few
+/// samples to pay for itself once the samples ran in float32). bear.vm 1024², one thread, CPU
+/// seconds on a loaded machine: 4 × 4 × 32 with the interval pass 6.6-7.2, 8 × 8 × 8 (with the
+/// pass) 4.1-4.6, 8 × 8 × 4 without 3.9-4.3; deeper leaves were slower (8 × 8 × 32: 7.9):
+/// bear's intervals are loose, so they prune little, but a deep leaf samples every column of
+/// the band around the silhouette through its whole depth.
+constexpr int kLeafPixels = 8;
+constexpr int kLeafDepth = 4;
 // Regions split in two, so a level removes little of the tape: shortening it every fifth level
-// (and at the leaves) spent 15-20% less time than every level on bear.vm and the pawn at 512²
-// (one thread, median of 5; every 2nd or 3rd level in between), with the same pictures.
+// spent 15-20% less time than every level on bear.vm and the pawn at 512² (one thread, median
+// of 5; every 2nd or 3rd level in between), with the same pictures. Leaves use their parent's
+// tape: shortening it once more cost more than it saved (4.1-4.7 against 4.1-4.4 s).
 constexpr std::size_t kSimplifyEvery = 5;
 /// Tiles handed to the workers.
 constexpr int kTilePixels = 64;
@@ -95,12 +101,13 @@ struct Region {
 struct Hit {
     std::size_t pixel;
     Vec at;
+    int k;              ///< the first sample at or inside the surface
+    double kk;          ///< the hit's depth in samples, in (k - 1, k]
 };
 
-/// A pixel's first float32 sample at or inside the surface, to check in float64.
-struct Candidate {
-    int col, row, k;
-    int last;   ///< the last sample of the region in front of the pixel's hit so far
+/// A leaf's pixel not hit yet: samples up to `last` are in front of its hit so far.
+struct OpenPixel {
+    int col, row, last;
 };
 
 /// Lane arrays of one scalar type: slot k's lanes at slots[k].
@@ -119,11 +126,10 @@ constexpr double kNoValue = std::numeric_limits<double>::quiet_NaN();
 
 struct Scratch {
     std::vector<Hit> hits;
-    std::vector<Candidate> candidates;
+    std::vector<OpenPixel> open;
     Lanes<float> float_lanes;
-    Lanes<double> double_lanes;
-    Lanes<double> column_lanes;
-    std::size_t float32_false_hits = 0;
+    std::size_t tapes_written = 0;   ///< numbers the simplified tapes (0: the model's)
+    std::size_t leaf_tape_of = ~std::size_t{0};   ///< the number of the tape leaf_tape reallocates
     std::vector<Interval> ranges;
     BoxScratch box;
     std::vector<std::unique_ptr<Tape>> tapes;
@@ -145,7 +151,7 @@ public:
         }
     }
 
-    void render(const Region& r, const Tape& tape, Scratch& s, std::size_t depth) {
+    void render(const Region& r, const Tape& tape, Scratch& s, std::size_t depth, std::size_t generation = 0) {
         if (all_hit_before(r)) return;
         // The region's box in model coordinates (the parallelepiped's bounds), clipped to the domain.
         const double s_lo = cam_.s0 + r.c0 * cam_.step, s_hi = cam_.s0 + r.c1 * cam_.step;
@@ -163,24 +169,24 @@ public:
             if (sum.lo > sum.hi) return;   // outside the domain
             axes[a] = sum;
         }
+        if (r.c1 - r.c0 < kLeafPixels && r.r1 - r.r0 < kLeafPixels && r.k1 - r.k0 < kLeafDepth) {
+            evaluate_leaf(r, tape, generation, s);
+            return;
+        }
         evaluate_intervals(tape, axes, s.ranges);
         const Interval& v = s.ranges[tape.root_slot];
         if (v.negative()) return;
-        const bool leaf = r.c1 - r.c0 < kLeafPixels && r.r1 - r.r0 < kLeafPixels && r.k1 - r.k0 < kLeafDepth;
         const Tape* next = &tape;
-        if (leaf || depth % kSimplifyEvery == 0) {
+        if (depth % kSimplifyEvery == 0) {
             while (s.tapes.size() <= depth) s.tapes.push_back(std::make_unique<Tape>());
             simplify_for_sign(tape, s.ranges, s.box, *s.tapes[depth]);
             next = s.tapes[depth].get();
+            generation = ++s.tapes_written;
         }
-        if (leaf) {
-            evaluate_leaf(r, *next, s);
-            return;
-        }
-        // Split the longest of (columns, rows, depth); depth front half first.
+        // Split the longest of (columns, rows, depth) in leaf units; depth front half first.
         const int w = r.c1 - r.c0 + 1, h = r.r1 - r.r0 + 1, d = r.k1 - r.k0 + 1;
         Region a = r, b = r;
-        if (d >= w && d >= h && d > 1) {
+        if (d * kLeafPixels >= w * kLeafDepth && d * kLeafPixels >= h * kLeafDepth && d > 1) {
             a.k1 = (r.k0 + r.k1) / 2;
             b.k0 = a.k1 + 1;
         } else if (w >= h && w > 1) {
@@ -190,8 +196,8 @@ public:
             a.r1 = (r.r0 + r.r1) / 2;
             b.r0 = a.r1 + 1;
         }
-        render(a, *next, s, depth + 1);
-        render(b, *next, s, depth + 1);
+        render(a, *next, s, depth + 1, generation);
+        render(b, *next, s, depth + 1, generation);
     }
 
 private:
@@ -215,93 +221,57 @@ private:
         return true;
     }
 
-    /// Fills the argument slots of `lanes` lanes of `slots` with the points of `points`
-    /// (one per lane: pixel column, row and depth sample).
-    template <class T, class PointOf>
-    void fill_arguments(const Tape& tape, T* const* slots, int lanes, PointOf point_of) const {
-        for (auto [slot, axis] : tape.arguments) {
-            T* out = slots[slot];
-            for (int l = 0; l < lanes; ++l) out[l] = static_cast<T>(point_of(l)[axis]);
-        }
-        for (auto [slot, value] : tape.constants) std::fill_n(slots[slot], lanes, static_cast<T>(value));
-    }
-
     /// The leaf's samples run in float32 (SLEEF's vector exp/log, vector_math.hpp) only to
-    /// find, per pixel, the first sample at or inside the surface; that sample and the one
-    /// before it are then evaluated again in float64, so the hit's sign test and its
-    /// interpolated depth are the float64 ones. Where float64 disagrees with float32 (a value
-    /// within float32's rounding of zero), the pixel's whole column is redone in float64.
-    void evaluate_leaf(const Region& r, const Tape& ssa, Scratch& s) {
-        // Lanes cost slots × 512 points: SSA slots would cost a deep model gigabytes.
-        reallocate_slots(ssa, s.leaf_tape, s.slot_scratch);
+    /// find, per pixel, the first sample at or inside the surface and the values there and
+    /// before it; the hit, interpolated between them, is then refined by one Newton step along
+    /// the ray in float64 (normals), from the value and gradient the normal needs anyway.
+    void evaluate_leaf(const Region& r, const Tape& ssa, std::size_t generation, Scratch& s) {
+        // Lanes cost slots × 256 points: SSA slots would cost a deep model gigabytes. Sibling
+        // leaves share their parent's tape, so it is reallocated once for all of them.
+        if (s.leaf_tape_of != generation || generation == 0) {
+            reallocate_slots(ssa, s.leaf_tape, s.slot_scratch);
+            s.leaf_tape_of = generation;
+        }
         const Tape& tape = s.leaf_tape;
-        const int w = r.c1 - r.c0 + 1, h = r.r1 - r.r0 + 1, d = r.k1 - r.k0 + 1;
-        const int n = w * h * d;
-        // Lane order: pixel-major, depth within a pixel.
-        const auto leaf_point = [&](int l) {
-            const int pixel = l / d;
-            return cam_.point(r.c0 + pixel % w, r.r0 + pixel / w, r.k0 + l % d);
-        };
+        // The pixels not hit in front of the leaf, each with its last sample to look at.
+        std::vector<OpenPixel>& open = s.open;
+        open.clear();
+        for (int row = r.r0; row <= r.r1; ++row)
+            for (int col = r.c0; col <= r.c1; ++col) {
+                const int last = std::min(r.k1, hit_sample(col, row) - 1);
+                if (last >= r.k0) open.push_back({col, row, last});
+            }
+        std::vector<Hit>& hits = s.hits;
+        hits.clear();
+        if (open.empty()) return;
+        const int depth = r.k1 - r.k0 + 1;
+        const int n = static_cast<int>(open.size()) * depth;
         Lanes<float>& f = s.float_lanes;
         f.prepare(tape.slot_count, n);
-        fill_arguments(tape, f.slots.data(), n, leaf_point);
+        // Lane order: pixel-major, depth within a pixel.
+        for (auto [slot, axis] : tape.arguments) {
+            float* out = f.slots[slot];
+            for (const OpenPixel& o : open) {
+                const double across = (cam_.s0 + o.col * cam_.step) * cam_.right[axis] +
+                                      (cam_.t0 - o.row * cam_.step) * cam_.up[axis];
+                for (int k = r.k0; k <= r.k1; ++k)
+                    *out++ = static_cast<float>(across + (cam_.d0 + k * cam_.step) * cam_.into[axis]);
+            }
+        }
+        for (auto [slot, value] : tape.constants) std::fill_n(f.slots[slot], n, static_cast<float>(value));
         run_lanes<float, 0>(tape.code.data(), tape.code.size(), f.slots.data(), n);
-        const float* value32 = f.slots[tape.root_slot];
-
-        // Per pixel: the float32 candidate (first sample ≥ 0 in the box), checked in float64.
-        std::vector<Candidate>& cand = s.candidates;
-        cand.clear();
-        for (int p = 0; p < w * h; ++p) {
-            const int col = r.c0 + p % w, row = r.r0 + p / w;
-            const int last = std::min(r.k1, hit_sample(col, row) - 1);
-            for (int k = r.k0; k <= last; ++k) {
-                if (!(value32[p * d + (k - r.k0)] >= 0)) continue;
-                if (!in_box(cam_.point(col, row, k))) continue;
-                cand.push_back({col, row, k, last});
+        const float* value = f.slots[tape.root_slot];
+        // Per pixel: the first sample ≥ 0 in the box is its hit.
+        for (std::size_t i = 0; i < open.size(); ++i) {
+            const OpenPixel& o = open[i];
+            const float* column = value + i * depth - r.k0;   // column[k]: sample k
+            for (int k = r.k0; k <= o.last; ++k) {
+                if (!(column[k] >= 0) || !in_box(cam_.point(o.col, o.row, k))) continue;
+                place_hit(r, o.col, o.row, k, k > r.k0 ? column[k - 1] : kNoValue, column[k], hits);
                 break;
             }
         }
-        std::vector<Hit>& hits = s.hits;
-        hits.clear();
-        if (!cand.empty()) {
-            // Two float64 lanes per candidate: its sample and the one before it.
-            const int m = static_cast<int>(cand.size()) * 2;
-            Lanes<double>& g = s.double_lanes;
-            g.prepare(tape.slot_count, m);
-            fill_arguments(tape, g.slots.data(), m, [&](int l) {
-                const Candidate& c = cand[l / 2];
-                return cam_.point(c.col, c.row, c.k - 1 + l % 2);
-            });
-            run_lanes<double, 0>(tape.code.data(), tape.code.size(), g.slots.data(), m);
-            const double* value64 = g.slots[tape.root_slot];
-            for (std::size_t i = 0; i < cand.size(); ++i) {
-                const Candidate& c = cand[i];
-                const double before = value64[2 * i], at = value64[2 * i + 1];
-                const bool confirmed = at >= 0 && (c.k == r.k0 || !(before >= 0) ||
-                                                   !in_box(cam_.point(c.col, c.row, c.k - 1)));
-                if (confirmed) place_hit(r, c.col, c.row, c.k, c.k > r.k0 ? before : kNoValue, at, hits);
-                else redo_column_in_double(r, c, tape, s, hits);
-            }
-        }
         normals(hits, tape, s);
-    }
-
-    /// The pixel's samples [r.k0, c.last] in float64, and the first at or inside the surface
-    /// placed as a hit (float32 was too close to zero to decide).
-    void redo_column_in_double(const Region& r, const Candidate& c, const Tape& tape, Scratch& s,
-                               std::vector<Hit>& hits) {
-        const int m = c.last - r.k0 + 1;
-        Lanes<double>& g = s.column_lanes;
-        g.prepare(tape.slot_count, m);
-        fill_arguments(tape, g.slots.data(), m, [&](int l) { return cam_.point(c.col, c.row, r.k0 + l); });
-        run_lanes<double, 0>(tape.code.data(), tape.code.size(), g.slots.data(), m);
-        const double* value = g.slots[tape.root_slot];
-        for (int k = r.k0; k <= c.last; ++k) {
-            if (!(value[k - r.k0] >= 0) || !in_box(cam_.point(c.col, c.row, k))) continue;
-            place_hit(r, c.col, c.row, k, k > r.k0 ? value[k - r.k0 - 1] : kNoValue, value[k - r.k0], hits);
-            return;
-        }
-        ++s.float32_false_hits;
     }
 
     /// Sample k of the pixel is the first at or inside the surface (value `at`), `before` is
@@ -322,7 +292,7 @@ private:
         hit_k_[pixel] = k;
         image_.hit[pixel] = cut ? SurfaceImage::Hit::Cut : SurfaceImage::Hit::Surface;
         image_.depth[pixel] = static_cast<float>(kk / (cam_.depth_samples - 1));
-        if (!cut) hits.push_back({pixel, cam_.point(col, row, kk)});
+        if (!cut) hits.push_back({pixel, cam_.point(col, row, kk), k, kk});
         else image_.normal[pixel] = {0.0f, 0.0f, 1.0f};
     }
 
@@ -343,6 +313,11 @@ private:
             const Vec grad{-g[i].d[0], -g[i].d[1], -g[i].d[2]};
             const double x = dot(grad, cam_.right), y = dot(grad, cam_.up), z = -dot(grad, cam_.into);
             const double len = std::sqrt(x * x + y * y + z * z);
+            // Newton along the ray (df/dk = ∇f · into × step), kept only inside the bracket.
+            const Hit& h = hits[i];
+            const double kk = h.kk - g[i].v / (-dot(grad, cam_.into) * cam_.step);
+            if (std::isfinite(kk) && kk >= h.k - 1 && kk <= h.k)
+                image_.depth[h.pixel] = static_cast<float>(kk / (cam_.depth_samples - 1));
             image_.normal[hits[i].pixel] = len > 0 && std::isfinite(len)
                                                ? std::array<float, 3>{float(x / len), float(y / len), float(z / len)}
                                                : std::array<float, 3>{0.0f, 0.0f, 1.0f};

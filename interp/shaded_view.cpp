@@ -103,6 +103,7 @@ struct Hit {
     Vec at;
     int k;              ///< the first sample at or inside the surface
     double kk;          ///< the hit's depth in samples, in (k - 1, k]
+    bool bracketed;     ///< kk is interpolated from the sample before (else that one is in another leaf)
 };
 
 /// A leaf's pixel not hit yet: samples up to `last` are in front of its hit so far.
@@ -177,7 +178,9 @@ public:
         const Interval& v = s.ranges[tape.root_slot];
         if (v.negative()) return;
         const Tape* next = &tape;
-        if (depth % kSimplifyEvery == 0) {
+        // Not where the region is all inside: the shortened tape would be the constant 1, whose
+        // gradient (the hits' normals, Newton) is zero.
+        if (depth % kSimplifyEvery == 0 && !v.positive()) {
             while (s.tapes.size() <= depth) s.tapes.push_back(std::make_unique<Tape>());
             simplify_for_sign(tape, s.ranges, s.box, *s.tapes[depth]);
             next = s.tapes[depth].get();
@@ -229,6 +232,7 @@ private:
         // Lanes cost slots × 256 points: SSA slots would cost a deep model gigabytes. Sibling
         // leaves share their parent's tape, so it is reallocated once for all of them.
         if (s.leaf_tape_of != generation || generation == 0) {
+            finish(s);   // the hits waiting for normals were found with the tape about to be replaced
             reallocate_slots(ssa, s.leaf_tape, s.slot_scratch);
             s.leaf_tape_of = generation;
         }
@@ -242,7 +246,6 @@ private:
                 if (last >= r.k0) open.push_back({col, row, last});
             }
         std::vector<Hit>& hits = s.hits;
-        hits.clear();
         if (open.empty()) return;
         const int depth = r.k1 - r.k0 + 1;
         const int n = static_cast<int>(open.size()) * depth;
@@ -271,8 +274,17 @@ private:
                 break;
             }
         }
-        normals(hits, tape, s);
     }
+
+public:
+    /// Computes the normals of the hits found so far (they wait so that the leaves sharing a
+    /// tape run their normals in one batch: per-instruction costs are paid once).
+    void finish(Scratch& s) {
+        normals(s.hits, s.leaf_tape, s);
+        s.hits.clear();
+    }
+
+private:
 
     /// Sample k of the pixel is the first at or inside the surface (value `at`), `before` is
     /// the previous sample's value when it is in this region (else kNoValue): the hit goes
@@ -292,7 +304,7 @@ private:
         hit_k_[pixel] = k;
         image_.hit[pixel] = cut ? SurfaceImage::Hit::Cut : SurfaceImage::Hit::Surface;
         image_.depth[pixel] = static_cast<float>(kk / (cam_.depth_samples - 1));
-        if (!cut) hits.push_back({pixel, cam_.point(col, row, kk), k, kk});
+        if (!cut) hits.push_back({pixel, cam_.point(col, row, kk), k, kk, k > r.k0});
         else image_.normal[pixel] = {0.0f, 0.0f, 1.0f};
     }
 
@@ -313,9 +325,12 @@ private:
             const Vec grad{-g[i].d[0], -g[i].d[1], -g[i].d[2]};
             const double x = dot(grad, cam_.right), y = dot(grad, cam_.up), z = -dot(grad, cam_.into);
             const double len = std::sqrt(x * x + y * y + z * z);
-            // Newton along the ray (df/dk = ∇f · into × step), kept only inside the bracket.
+            // Newton along the ray (df/dk = ∇f · into × step), kept only inside the bracket. A hit
+            // at its leaf's first sample starts a whole sample away, where Newton may overshoot
+            // a little: its step is clamped to the sample before.
             const Hit& h = hits[i];
-            const double kk = h.kk - g[i].v / (-dot(grad, cam_.into) * cam_.step);
+            double kk = h.kk - g[i].v / (-dot(grad, cam_.into) * cam_.step);
+            if (!h.bracketed && std::isfinite(kk)) kk = std::clamp(kk, h.k - 1.0, double(h.k));
             if (std::isfinite(kk) && kk >= h.k - 1 && kk <= h.k)
                 image_.depth[h.pixel] = static_cast<float>(kk / (cam_.depth_samples - 1));
             image_.normal[hits[i].pixel] = len > 0 && std::isfinite(len)
@@ -376,6 +391,7 @@ SurfaceImage render_shaded_view(const ir::Graph& graph, ir::NodeId root, const s
         const Region r{tx * kTilePixels, std::min(width, (tx + 1) * kTilePixels) - 1, ty * kTilePixels,
                        std::min(height, (ty + 1) * kTilePixels) - 1, 0, camera.depth_samples - 1};
         renderer.render(r, tape, scratch[worker], 0);
+        renderer.finish(scratch[worker]);
         return std::size_t{0};
     });
     return image;

@@ -76,6 +76,6 @@ TEST_CASE("a shaded view of a sphere has the exact hits, depths and normals") {
             // sample start a whole sample away); the normal is the gradient there, so off by
             // at most the angle that a sample's step subtends on the sphere.
             CHECK(e.depth_samples < 0.05);
-            CHECK(e.normal < 0.8 / size);
+            CHECK(e.normal < 2.0 / (size - 1) / kRadius);
         }
 }

@@ -287,8 +287,8 @@ public:
 private:
 
     /// Sample k of the pixel is the first at or inside the surface (value `at`), `before` is
-    /// the previous sample's value when it is in this region (else kNoValue): the hit goes
-    /// where the values cross zero between them, or is a cut by the domain's face.
+    /// the previous sample's value when it is in this leaf (else kNoValue): the hit goes where
+    /// the values cross zero between them (refined by normals), or is a cut by the domain's face.
     void place_hit(const Region& r, int col, int row, int k, double before, double at, std::vector<Hit>& hits) {
         const std::size_t pixel = std::size_t(row) * image_.width + col;
         double kk = k;
@@ -299,7 +299,7 @@ private:
                 cut = false;
             }
         } else if (k > 0 && in_box(cam_.point(col, row, k - 1))) {
-            cut = false;   // the previous sample is in another region: no interpolation
+            cut = false;   // the previous sample is in another leaf: Newton starts from k (normals)
         }
         hit_k_[pixel] = k;
         image_.hit[pixel] = cut ? SurfaceImage::Hit::Cut : SurfaceImage::Hit::Surface;

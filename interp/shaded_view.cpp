@@ -1,6 +1,6 @@
 // interp/shaded_view.cpp — the front-to-back region walk (see shaded_view.hpp): tiles of the
 // picture on the worker threads, each refined depth-first with the sign renderer's
-// interval pass and tape simplification.
+// interval pass and tape simplification, down to leaves sampled in float32.
 #include "interp/shaded_view.hpp"
 
 #include "interp/box_simplify.hpp"
@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <limits>
 #include <memory>
 
 namespace fortu {
@@ -21,14 +22,19 @@ namespace {
 using Vec = std::array<double, 3>;
 
 constexpr double kPi = 3.14159265358979323846;
-/// Leaves: at most 4 × 4 pixels × 32 depth samples = 512 lanes (bear.vm 1024²: 6.9 s against 7.3 s
-/// with 8 × 8 × 8, on a loaded machine).
-constexpr int kLeafPixels = 4;
-constexpr int kLeafDepth = 32;
-constexpr int kLeafLanes = kLeafPixels * kLeafPixels * kLeafDepth;
+/// Leaves: at most 8 × 8 pixels × 4 depth samples, sampled without an interval pass of their
+/// own (their parent's, over twice the depth, was just done: a leaf's own pass spared too few
+/// samples to pay for itself once the samples ran in float32). bear.vm 1024², one thread, CPU
+/// seconds on a loaded machine: 4 × 4 × 32 with the interval pass 6.6-7.2, 8 × 8 × 8 (with the
+/// pass) 4.1-4.6, 8 × 8 × 4 without 3.9-4.3; deeper leaves were slower (8 × 8 × 32: 7.9):
+/// bear's intervals are loose, so they prune little, but a deep leaf samples every column of
+/// the band around the silhouette through its whole depth.
+constexpr int kLeafPixels = 8;
+constexpr int kLeafDepth = 4;
 // Regions split in two, so a level removes little of the tape: shortening it every fifth level
-// (and at the leaves) spent 15-20% less time than every level on bear.vm and the pawn at 512²
-// (one thread, median of 5; every 2nd or 3rd level in between), with the same pictures.
+// spent 15-20% less time than every level on bear.vm and the pawn at 512² (one thread, median
+// of 5; every 2nd or 3rd level in between), with the same pictures. Leaves use their parent's
+// tape: shortening it once more cost more than it saved (4.1-4.7 against 4.1-4.4 s).
 constexpr std::size_t kSimplifyEvery = 5;
 /// Tiles handed to the workers.
 constexpr int kTilePixels = 64;
@@ -95,17 +101,41 @@ struct Region {
 struct Hit {
     std::size_t pixel;
     Vec at;
+    int k;              ///< the first sample at or inside the surface
+    double kk;          ///< the hit's depth in samples, in (k - 1, k]
+    bool bracketed;     ///< kk is interpolated from the sample before (else that one is in another leaf)
 };
+
+/// A leaf's pixel not hit yet: samples up to `last` are in front of its hit so far.
+struct OpenPixel {
+    int col, row, last;
+};
+
+/// Lane arrays of one scalar type: slot k's lanes at slots[k].
+template <class T>
+struct Lanes {
+    std::vector<T> values;
+    std::vector<T*> slots;
+    void prepare(std::size_t slot_count, int lanes) {
+        if (values.size() < slot_count * lanes) values.resize(slot_count * lanes);
+        slots.resize(slot_count);
+        for (std::size_t k = 0; k < slot_count; ++k) slots[k] = values.data() + k * lanes;
+    }
+};
+
+constexpr double kNoValue = std::numeric_limits<double>::quiet_NaN();
 
 struct Scratch {
     std::vector<Hit> hits;
+    std::vector<OpenPixel> open;
+    Lanes<float> float_lanes;
+    std::size_t tapes_written = 0;   ///< numbers the simplified tapes (0: the model's)
+    std::size_t leaf_tape_of = ~std::size_t{0};   ///< the number of the tape leaf_tape reallocates
     std::vector<Interval> ranges;
     BoxScratch box;
     std::vector<std::unique_ptr<Tape>> tapes;
     Tape leaf_tape;          ///< the leaf's tape in max-live slots (reallocate_slots)
     SlotScratch slot_scratch;
-    std::vector<double> lanes;
-    std::vector<double*> slots;
     std::vector<ir::Dual> duals;
     std::vector<ir::Dual*> dual_slots;
 };
@@ -122,7 +152,7 @@ public:
         }
     }
 
-    void render(const Region& r, const Tape& tape, Scratch& s, std::size_t depth) {
+    void render(const Region& r, const Tape& tape, Scratch& s, std::size_t depth, std::size_t generation = 0) {
         if (all_hit_before(r)) return;
         // The region's box in model coordinates (the parallelepiped's bounds), clipped to the domain.
         const double s_lo = cam_.s0 + r.c0 * cam_.step, s_hi = cam_.s0 + r.c1 * cam_.step;
@@ -140,24 +170,26 @@ public:
             if (sum.lo > sum.hi) return;   // outside the domain
             axes[a] = sum;
         }
+        if (r.c1 - r.c0 < kLeafPixels && r.r1 - r.r0 < kLeafPixels && r.k1 - r.k0 < kLeafDepth) {
+            evaluate_leaf(r, tape, generation, s);
+            return;
+        }
         evaluate_intervals(tape, axes, s.ranges);
         const Interval& v = s.ranges[tape.root_slot];
         if (v.negative()) return;
-        const bool leaf = r.c1 - r.c0 < kLeafPixels && r.r1 - r.r0 < kLeafPixels && r.k1 - r.k0 < kLeafDepth;
         const Tape* next = &tape;
-        if (leaf || depth % kSimplifyEvery == 0) {
+        // Not where the region is all inside: the shortened tape would be the constant 1, whose
+        // gradient (the hits' normals, Newton) is zero.
+        if (depth % kSimplifyEvery == 0 && !v.positive()) {
             while (s.tapes.size() <= depth) s.tapes.push_back(std::make_unique<Tape>());
             simplify_for_sign(tape, s.ranges, s.box, *s.tapes[depth]);
             next = s.tapes[depth].get();
+            generation = ++s.tapes_written;
         }
-        if (leaf) {
-            evaluate_leaf(r, *next, s);
-            return;
-        }
-        // Split the longest of (columns, rows, depth); depth front half first.
+        // Split the longest of (columns, rows, depth) in leaf units; depth front half first.
         const int w = r.c1 - r.c0 + 1, h = r.r1 - r.r0 + 1, d = r.k1 - r.k0 + 1;
         Region a = r, b = r;
-        if (d >= w && d >= h && d > 1) {
+        if (d * kLeafPixels >= w * kLeafDepth && d * kLeafPixels >= h * kLeafDepth && d > 1) {
             a.k1 = (r.k0 + r.k1) / 2;
             b.k0 = a.k1 + 1;
         } else if (w >= h && w > 1) {
@@ -167,8 +199,8 @@ public:
             a.r1 = (r.r0 + r.r1) / 2;
             b.r0 = a.r1 + 1;
         }
-        render(a, *next, s, depth + 1);
-        render(b, *next, s, depth + 1);
+        render(a, *next, s, depth + 1, generation);
+        render(b, *next, s, depth + 1, generation);
     }
 
 private:
@@ -192,66 +224,88 @@ private:
         return true;
     }
 
-    void ensure_lanes(const Tape& tape, Scratch& s) const {
-        if (s.lanes.size() < std::size_t(tape.slot_count) * kLeafLanes) {
-            s.lanes.resize(std::size_t(tape.slot_count) * kLeafLanes);
-            s.slots.resize(tape.slot_count);
+    /// The leaf's samples run in float32 (SLEEF's vector exp/log, vector_math.hpp) only to
+    /// find, per pixel, the first sample at or inside the surface and the values there and
+    /// before it; the hit, interpolated between them, is then refined by one Newton step along
+    /// the ray in float64 (normals), from the value and gradient the normal needs anyway.
+    void evaluate_leaf(const Region& r, const Tape& ssa, std::size_t generation, Scratch& s) {
+        // Lanes cost slots × 256 points: SSA slots would cost a deep model gigabytes. Sibling
+        // leaves share their parent's tape, so it is reallocated once for all of them.
+        if (s.leaf_tape_of != generation || generation == 0) {
+            finish(s);   // the hits waiting for normals were found with the tape about to be replaced
+            reallocate_slots(ssa, s.leaf_tape, s.slot_scratch);
+            s.leaf_tape_of = generation;
         }
-        s.slots.resize(std::max<std::size_t>(s.slots.size(), tape.slot_count));
-        for (std::size_t k = 0; k < tape.slot_count; ++k) s.slots[k] = s.lanes.data() + k * kLeafLanes;
-    }
-
-    void evaluate_leaf(const Region& r, const Tape& ssa, Scratch& s) {
-        // Lanes cost slots × 512 points: SSA slots would cost a deep model gigabytes.
-        reallocate_slots(ssa, s.leaf_tape, s.slot_scratch);
         const Tape& tape = s.leaf_tape;
-        ensure_lanes(tape, s);
-        const int w = r.c1 - r.c0 + 1, h = r.r1 - r.r0 + 1, d = r.k1 - r.k0 + 1;
-        const int n = w * h * d;
+        // The pixels not hit in front of the leaf, each with its last sample to look at.
+        std::vector<OpenPixel>& open = s.open;
+        open.clear();
+        for (int row = r.r0; row <= r.r1; ++row)
+            for (int col = r.c0; col <= r.c1; ++col) {
+                const int last = std::min(r.k1, hit_sample(col, row) - 1);
+                if (last >= r.k0) open.push_back({col, row, last});
+            }
+        std::vector<Hit>& hits = s.hits;
+        if (open.empty()) return;
+        const int depth = r.k1 - r.k0 + 1;
+        const int n = static_cast<int>(open.size()) * depth;
+        Lanes<float>& f = s.float_lanes;
+        f.prepare(tape.slot_count, n);
         // Lane order: pixel-major, depth within a pixel.
         for (auto [slot, axis] : tape.arguments) {
-            double* out = s.slots[slot];
-            int l = 0;
-            for (int row = r.r0; row <= r.r1; ++row)
-                for (int col = r.c0; col <= r.c1; ++col)
-                    for (int k = r.k0; k <= r.k1; ++k) out[l++] = cam_.point(col, row, k)[axis];
-        }
-        for (auto [slot, value] : tape.constants) std::fill_n(s.slots[slot], n, value);
-        run_lanes<double, 0>(tape.code.data(), tape.code.size(), s.slots.data(), n);
-        const double* value = s.slots[tape.root_slot];
-        std::vector<Hit>& hits = s.hits;
-        hits.clear();
-        int l = 0;
-        for (int row = r.r0; row <= r.r1; ++row)
-            for (int col = r.c0; col <= r.c1; ++col, l += d) {
-                const std::size_t pixel = std::size_t(row) * image_.width + col;
-                const int before = hit_sample(col, row);
-                for (int k = r.k0; k <= std::min(r.k1, before - 1); ++k) {
-                    const double v = value[l + (k - r.k0)];
-                    if (!(v >= 0)) continue;
-                    const Vec p = cam_.point(col, row, k);
-                    if (!in_box(p)) continue;
-                    // Between the previous sample (outside) and this one, where the values cross 0.
-                    double kk = k;
-                    bool cut = true;
-                    if (k > r.k0) {
-                        const double u = value[l + (k - r.k0) - 1];
-                        if (std::isfinite(u) && u < 0 && in_box(cam_.point(col, row, k - 1))) {
-                            kk = k - 1 + (-u) / (v - u);
-                            cut = false;
-                        }
-                    } else if (k > 0 && in_box(cam_.point(col, row, k - 1))) {
-                        cut = false;   // the previous sample is in another region: no interpolation
-                    }
-                    hit_k_[pixel] = k;
-                    image_.hit[pixel] = cut ? SurfaceImage::Hit::Cut : SurfaceImage::Hit::Surface;
-                    image_.depth[pixel] = static_cast<float>(kk / (cam_.depth_samples - 1));
-                    if (!cut) hits.push_back({pixel, cam_.point(col, row, kk)});
-                    else image_.normal[pixel] = {0.0f, 0.0f, 1.0f};
-                    break;
-                }
+            float* out = f.slots[slot];
+            for (const OpenPixel& o : open) {
+                const double across = (cam_.s0 + o.col * cam_.step) * cam_.right[axis] +
+                                      (cam_.t0 - o.row * cam_.step) * cam_.up[axis];
+                for (int k = r.k0; k <= r.k1; ++k)
+                    *out++ = static_cast<float>(across + (cam_.d0 + k * cam_.step) * cam_.into[axis]);
             }
-        normals(hits, tape, s);
+        }
+        for (auto [slot, value] : tape.constants) std::fill_n(f.slots[slot], n, static_cast<float>(value));
+        run_lanes<float, 0>(tape.code.data(), tape.code.size(), f.slots.data(), n);
+        const float* value = f.slots[tape.root_slot];
+        // Per pixel: the first sample ≥ 0 in the box is its hit.
+        for (std::size_t i = 0; i < open.size(); ++i) {
+            const OpenPixel& o = open[i];
+            const float* column = value + i * depth - r.k0;   // column[k]: sample k
+            for (int k = r.k0; k <= o.last; ++k) {
+                if (!(column[k] >= 0) || !in_box(cam_.point(o.col, o.row, k))) continue;
+                place_hit(r, o.col, o.row, k, k > r.k0 ? column[k - 1] : kNoValue, column[k], hits);
+                break;
+            }
+        }
+    }
+
+public:
+    /// Computes the normals of the hits found so far (they wait so that the leaves sharing a
+    /// tape run their normals in one batch: per-instruction costs are paid once).
+    void finish(Scratch& s) {
+        normals(s.hits, s.leaf_tape, s);
+        s.hits.clear();
+    }
+
+private:
+
+    /// Sample k of the pixel is the first at or inside the surface (value `at`), `before` is
+    /// the previous sample's value when it is in this leaf (else kNoValue): the hit goes where
+    /// the values cross zero between them (refined by normals), or is a cut by the domain's face.
+    void place_hit(const Region& r, int col, int row, int k, double before, double at, std::vector<Hit>& hits) {
+        const std::size_t pixel = std::size_t(row) * image_.width + col;
+        double kk = k;
+        bool cut = true;
+        if (k > r.k0) {
+            if (std::isfinite(before) && before < 0 && in_box(cam_.point(col, row, k - 1))) {
+                kk = k - 1 + (-before) / (at - before);
+                cut = false;
+            }
+        } else if (k > 0 && in_box(cam_.point(col, row, k - 1))) {
+            cut = false;   // the previous sample is in another leaf: Newton starts from k (normals)
+        }
+        hit_k_[pixel] = k;
+        image_.hit[pixel] = cut ? SurfaceImage::Hit::Cut : SurfaceImage::Hit::Surface;
+        image_.depth[pixel] = static_cast<float>(kk / (cam_.depth_samples - 1));
+        if (!cut) hits.push_back({pixel, cam_.point(col, row, kk), k, kk, k > r.k0});
+        else image_.normal[pixel] = {0.0f, 0.0f, 1.0f};
     }
 
     /// The unit normals (outward: against the gradient, which points inside) at the hits.
@@ -271,6 +325,14 @@ private:
             const Vec grad{-g[i].d[0], -g[i].d[1], -g[i].d[2]};
             const double x = dot(grad, cam_.right), y = dot(grad, cam_.up), z = -dot(grad, cam_.into);
             const double len = std::sqrt(x * x + y * y + z * z);
+            // Newton along the ray (df/dk = ∇f · into × step), kept only inside the bracket. A hit
+            // at its leaf's first sample starts a whole sample away, where Newton may overshoot
+            // a little: its step is clamped to the sample before.
+            const Hit& h = hits[i];
+            double kk = h.kk - g[i].v / (-dot(grad, cam_.into) * cam_.step);
+            if (!h.bracketed && std::isfinite(kk)) kk = std::clamp(kk, h.k - 1.0, double(h.k));
+            if (std::isfinite(kk) && kk >= h.k - 1 && kk <= h.k)
+                image_.depth[h.pixel] = static_cast<float>(kk / (cam_.depth_samples - 1));
             image_.normal[hits[i].pixel] = len > 0 && std::isfinite(len)
                                                ? std::array<float, 3>{float(x / len), float(y / len), float(z / len)}
                                                : std::array<float, 3>{0.0f, 0.0f, 1.0f};
@@ -329,6 +391,7 @@ SurfaceImage render_shaded_view(const ir::Graph& graph, ir::NodeId root, const s
         const Region r{tx * kTilePixels, std::min(width, (tx + 1) * kTilePixels) - 1, ty * kTilePixels,
                        std::min(height, (ty + 1) * kTilePixels) - 1, 0, camera.depth_samples - 1};
         renderer.render(r, tape, scratch[worker], 0);
+        renderer.finish(scratch[worker]);
         return std::size_t{0};
     });
     return image;

@@ -7,11 +7,13 @@
 // evaluated once with interval arithmetic: all outside, it is skipped; all inside, its
 // pixels are hit at its front; otherwise its tape is shortened for it (box_simplify.hpp,
 // the same pass as the sign renderer's) and it is split, front half first, so the regions
-// behind a pixel already hit are never visited. Small regions evaluate their sample points
-// with the lane kernel; the hit is placed between the last outside and first inside sample
-// by the values' zero crossing, and its normal is the gradient there, exact by dual numbers
-// on the region's shortened tape (which keeps the zero set and the sign of the model, so
-// the unit normal is the model's).
+// behind a pixel already hit are never visited. Small regions (leaves) evaluate their sample
+// points with the lane kernel in float32, where SLEEF's vector exp/log make a sample several
+// times cheaper than libm's float64 ones: float32 only finds each pixel's first sample at or
+// inside the surface. The hit is placed between it and the sample before by the values' zero
+// crossing, then refined in float64 by one Newton step along the ray from the value and
+// gradient there (dual numbers on the region's shortened tape, which keeps the zero set and
+// the sign of the model, so the unit normal is the model's); the normal is that gradient.
 #pragma once
 
 #include "interp/engine.hpp"

@@ -3,8 +3,12 @@
 #include "interp/tape_jit.hpp"
 
 #include "interp/lane_kernel.hpp"
+#include "interp/vector_math.hpp"
 
 #include <asmjit/x86.h>
+#if defined(__AVX2__)
+#include <sleef.h>
+#endif
 
 #include <algorithm>
 #include <cstdint>
@@ -107,6 +111,26 @@ void run_site(const Context<T>* context, const SiteOf<T>* site, std::size_t exte
     ins.out = 0;
     ins.in[0] = 1, ins.in[1] = 2, ins.in[2] = 3;
     run_lanes<T, kLanes>(&ins, 1, lanes, kLanes);
+}
+
+/// SLEEF's 8-lane function for a float32 operation, the one vector_math's AVX2 kernels call
+/// (vector_math.def), or nullptr. Only while vector_math runs its AVX2 table: the AVX-512
+/// functions need not round the same.
+void* float_vector_function(ir::Op op) {
+#if defined(__AVX2__)
+    if (vector_math::active_isa() != vector_math::Isa::avx2) return nullptr;
+    switch (op) {
+#define FORTU_VECTOR_MATH_1(name, sleef, accuracy, ulp, lo, hi) \
+    case ir::Op::name: return reinterpret_cast<void*>(&Sleef_##sleef##f8_##accuracy##avx2);
+#define FORTU_VECTOR_MATH_2(name, sleef, accuracy, ulp, lo, hi) \
+    case ir::Op::name: return reinterpret_cast<void*>(&Sleef_##sleef##f8_##accuracy##avx2);
+#include "interp/vector_math.def"
+    default: return nullptr;
+    }
+#else
+    (void)op;
+    return nullptr;
+#endif
 }
 
 /// Whether an instruction is compiled inline (Emitter::emit) rather than handed to the lane kernel.
@@ -324,6 +348,30 @@ public:
         last_ = out;
     }
 
+    /// A float32 operation SLEEF computes: one call per vector, operands in ymm0 (and ymm1),
+    /// the result in ymm0, stored at once (the call may change every other register).
+    void call_vector_function(const OperandRef* refs, int arity, void* function) {
+        const OperandRef* in = refs + 1;
+        forget();   // the operands were stored: this is no inline instruction (compiles_inline)
+        for (int v = 0; v < kVectors; ++v) {
+            for (int k = arity - 1; k >= 0; --k) {
+                const x86::Ymm dst = x86::ymm(k);
+                if (in[k].place == Place::constant) broadcast(dst, in[k].index);
+                else {
+                    if (in[k].place == Place::external)
+                        a_.mov(pointer_reg(k + 1), x86::ptr(x86::rbx, int32_t(in[k].index * sizeof(T*))));
+                    a_.vmovups(dst, source(in[k], k + 1, v).template as<x86::Mem>());
+                }
+            }
+            a_.mov(x86::rax, Imm(reinterpret_cast<uint64_t>(function)));
+            a_.call(x86::rax);
+            if (refs[0].place == Place::external)
+                a_.mov(pointer_reg(0), x86::ptr(x86::rbx, int32_t(refs[0].index * sizeof(T*))));
+            store(refs[0], v, x86::ymm(0));
+        }
+        forget();
+    }
+
     /// An instruction left to the lane kernel: a call with the registers it may clobber
     /// reloaded by the next instructions (they reload everything they use).
     void call_site(const SiteOf<T>* site) {
@@ -475,6 +523,12 @@ std::unique_ptr<CompiledTape<T>> CompiledTape<T>::compile(const Tape& tape) {
         if (compiles_inline(tape.code[i])) {
             e.emit(tape.code[i], refs[i].data(), r_factors[i], store_out[i] != 0);
             continue;
+        }
+        if constexpr (std::is_same_v<T, float>) {
+            if (void* function = float_vector_function(tape.code[i].op)) {
+                e.call_vector_function(refs[i].data(), ir::op_arity(tape.code[i].op), function);
+                continue;
+            }
         }
         c.sites.push_back(Site{uint32_t(i), {refs[i][0], refs[i][1], refs[i][2], refs[i][3]}});
         e.call_site(&c.sites.back());

@@ -22,7 +22,9 @@ namespace {
 
 using namespace asmjit;
 
-constexpr int kVectors = 4;
+/// Vectors per chunk.
+template <class T>
+constexpr int kVectors = CompiledTape<T>::kChunkLanes * int(sizeof(T)) / 32;
 /// Machine code per block: half the 32 KiB instruction cache.
 constexpr std::size_t kBlockBytes = 256;
 constexpr int kVectorBytes = 32;
@@ -147,10 +149,10 @@ bool compiles_inline(const Instruction& ins) {
 
 /// The code generator: registers rbx = slot pointers, r12 = chunk slots, r13 = constants,
 /// r14 = the chunk's byte offset in the caller's arrays, r15 = its offset in the chunk slots,
-/// rbp = context. ymm0..3 hold the last instruction's result vectors (read from there by the
+/// rbp = context. ymm0..7 hold the last instruction's result vectors (read from there by the
 /// next instruction, not from memory: a store and a load on every link of a chain of
-/// dependent instructions would make it wait for store forwarding), ymm4..6 an operation's
-/// fixed constants, ymm8..11 temporaries, ymm13..15 operands' constants.
+/// dependent instructions would make it wait for store forwarding), ymm8..11 temporaries;
+/// constants are memory operands into the pool, one vector per constant.
 template <class T>
 class Emitter {
 public:
@@ -174,7 +176,7 @@ public:
 
     /// Operand k's vector v as an operand: a register (constant, last result) or memory.
     Operand_ source(const OperandRef& ref, int k, int v) const {
-        if (ref.place == Place::constant) return x86::ymm(12 + k);
+        if (ref.place == Place::constant) return pool_entry(ref.index);
         if (is_last(ref)) return x86::ymm(v);
         if (ref.place == Place::internal) return chunk_slot(ref.index, v);
         return x86::ptr(pointer_reg(k), x86::r14, 0, v * kVectorBytes, kVectorBytes);
@@ -186,22 +188,18 @@ public:
     }
 
     /// Loads what an instruction's operands need before its vectors: external arrays'
-    /// pointers and constants' broadcasts (refs[k], k = 1..3: ymm12+k).
+    /// pointers.
     void prepare(const OperandRef* refs, int count, bool store_out) {
         for (int k = 0; k < count; ++k) {
             const OperandRef& ref = refs[k];
             if (ref.place == Place::external && (k > 0 ? !is_last(ref) : store_out))
                 a_.mov(pointer_reg(k), x86::ptr(x86::rbx, int32_t(ref.index * sizeof(T*))));
-            else if (ref.place == Place::constant && k > 0)
-                broadcast(x86::ymm(12 + k), ref.index);
         }
     }
 
-    void broadcast(const x86::Ymm& dst, uint32_t entry) {
-        const x86::Mem m = x86::ptr(x86::r13, int32_t(entry * sizeof(T)), sizeof(T));
-        if constexpr (kDouble) a_.vbroadcastsd(dst, m);
-        else a_.vbroadcastss(dst, m);
-    }
+    /// A pool entry: a constant in every lane of a vector (read as a memory operand, so that
+    /// constants take no registers).
+    static x86::Mem pool_entry(uint32_t entry) { return x86::ptr(x86::r13, int32_t(entry * kVectorBytes), kVectorBytes); }
 
     /// Operand k's vector v in a register: a constant's, the last result's, or loaded into
     /// `scratch` (never the result register, which may hold another operand).
@@ -224,15 +222,14 @@ public:
         const OperandRef& out = refs[0];
         const OperandRef* in = refs + 1;
         const auto each_vector = [&](auto body) {
-            for (int v = 0; v < kVectors; ++v) {
+            for (int v = 0; v < kVectors<T>; ++v) {
                 const x86::Ymm result = x86::ymm(v);
                 body(v, result);
             }
             if (store_out)
-                for (int v = 0; v < kVectors; ++v) store(out, v, x86::ymm(v));
+                for (int v = 0; v < kVectors<T>; ++v) store(out, v, x86::ymm(v));
         };
         const x86::Ymm t8 = x86::ymm(8), t9 = x86::ymm(9), t10 = x86::ymm(10), t11 = x86::ymm(11);
-        const x86::Ymm k4 = x86::ymm(4), k5 = x86::ymm(5), k6 = x86::ymm(6);
         const InstId add = id(x86::Inst::kIdVaddps, x86::Inst::kIdVaddpd);
         const InstId sub = id(x86::Inst::kIdVsubps, x86::Inst::kIdVsubpd);
         const InstId mul = id(x86::Inst::kIdVmulps, x86::Inst::kIdVmulpd);
@@ -249,8 +246,9 @@ public:
         };
         const auto with_mask = [&](InstId op, uint32_t mask) {  // r = mask op a
             prepare(refs, 2, store_out);
-            broadcast(k4, mask);
-            each_vector([&](int v, const x86::Ymm& r) { a_.emit(op, r, k4, source(in[0], 1, v)); });
+            each_vector([&](int v, const x86::Ymm& r) {
+                a_.emit(op, r, in_register(in[0], 1, v, t10), pool_entry(mask));
+            });
         };
         // k_min / k_max: (a < b || a != a) ? a : b; vminps gives (a < b) ? a : b.
         const auto min_max = [&](InstId op) {
@@ -286,25 +284,21 @@ public:
             break;
         case Op::Sign:   // a > 0 ? 1 : a < 0 ? -1 : a
             prepare(refs, 2, store_out);
-            broadcast(k4, kZero);
-            broadcast(k5, kOne);
-            broadcast(k6, kMinusOne);
             each_vector([&](int v, const x86::Ymm& r) {
                 const x86::Ymm x = in_register(in[0], 1, v, t10);
-                a_.emit(cmp, t8, x, k4, Imm(0x1E));   // x > 0, ordered
-                a_.emit(cmp, t9, x, k4, Imm(0x11));   // x < 0, ordered
-                a_.emit(blend, t10, x, k5, t8);
-                a_.emit(blend, r, t10, k6, t9);
+                a_.emit(cmp, t8, x, pool_entry(kZero), Imm(0x1E));   // x > 0, ordered
+                a_.emit(cmp, t9, x, pool_entry(kZero), Imm(0x11));   // x < 0, ordered
+                a_.emit(blend, t11, x, pool_entry(kOne), t8);
+                a_.emit(blend, r, t11, pool_entry(kMinusOne), t9);
             });
             break;
         case Op::Select:   // c > 0 ? a : (c != c ? c : b), operands c, a, b
             prepare(refs, 4, store_out);
-            broadcast(k4, kZero);
             each_vector([&](int v, const x86::Ymm& r) {
                 const x86::Ymm c = in_register(in[0], 1, v, t10);
                 const x86::Ymm a = in_register(in[1], 2, v, t11);
                 const x86::Ymm b = in_register(in[2], 3, v, t9);
-                a_.emit(cmp, t8, c, k4, Imm(0x1E));
+                a_.emit(cmp, t8, c, pool_entry(kZero), Imm(0x1E));
                 a_.emit(blend, t11, b, a, t8);
                 a_.emit(cmp, t8, c, c, Imm(3));
                 a_.emit(blend, r, t11, c, t8);
@@ -320,10 +314,6 @@ public:
             }
             // R0: (a + b) ∓ sqrt(a*a + b*b); Rα: ((a + b) ∓ sqrt((a*a + b*b) - 2α*(a*b))) / (1 + α)
             prepare(refs, 3, store_out);
-            if (alpha != 0.0) {
-                broadcast(k5, r_factors);       // T(2α)
-                broadcast(k6, r_factors + 1);   // T(1 + α)
-            }
             each_vector([&](int v, const x86::Ymm& r) {
                 const x86::Ymm a = in_register(in[0], 1, v, t10);
                 const x86::Ymm b = in_register(in[1], 2, v, t11);
@@ -332,13 +322,13 @@ public:
                 a_.emit(add, t8, t8, t9);
                 if (alpha != 0.0) {
                     a_.emit(mul, t9, a, b);
-                    a_.emit(mul, t9, k5, t9);
+                    a_.emit(mul, t9, t9, pool_entry(r_factors));   // T(2α) * (a * b); finite T(2α): commutes exactly
                     a_.emit(sub, t8, t8, t9);
                 }
                 a_.emit(sqrt, t8, t8);
                 a_.emit(add, r, a, b);
                 a_.emit(conjunction ? sub : add, r, r, t8);
-                if (alpha != 0.0) a_.emit(div, r, r, k6);
+                if (alpha != 0.0) a_.emit(div, r, r, pool_entry(r_factors + 1));   // T(1 + α)
             });
             break;
         }
@@ -353,10 +343,10 @@ public:
     void call_vector_function(const OperandRef* refs, int arity, void* function) {
         const OperandRef* in = refs + 1;
         forget();   // the operands were stored: this is no inline instruction (compiles_inline)
-        for (int v = 0; v < kVectors; ++v) {
+        for (int v = 0; v < kVectors<T>; ++v) {
             for (int k = arity - 1; k >= 0; --k) {
                 const x86::Ymm dst = x86::ymm(k);
-                if (in[k].place == Place::constant) broadcast(dst, in[k].index);
+                if (in[k].place == Place::constant) a_.vmovups(dst, pool_entry(in[k].index));
                 else {
                     if (in[k].place == Place::external)
                         a_.mov(pointer_reg(k + 1), x86::ptr(x86::rbx, int32_t(in[k].index * sizeof(T*))));
@@ -556,17 +546,18 @@ template <class T>
 void CompiledTape<T>::run(const Instruction* code, std::size_t count, T* const* slots, int lanes,
                           JitScratch<T>& scratch, bool constants_changed) const {
     const Compiled& c = *compiled_;
-    const std::size_t pool_size = c.fixed_constants.size() + c.operand_constants.size();
+    const std::size_t pool_size = (c.fixed_constants.size() + c.operand_constants.size()) * kVectorBytes / sizeof(T);
     if (scratch.constants.size() != pool_size) {
         scratch.constants.assign(pool_size, T(0));
         constants_changed = true;
     }
     if (constants_changed || scratch.constants_of != code) {
+        constexpr int kPerVector = kVectorBytes / int(sizeof(T));
         T* pool = scratch.constants.data();
-        std::copy_n(c.fixed_constants.begin(), kFixedCount, pool);
-        std::size_t k = kFixedCount;
-        for (auto [instruction, operand] : c.operand_constants) pool[k++] = T(code[instruction].constant[operand]);
-        std::copy(c.fixed_constants.begin() + kFixedCount, c.fixed_constants.end(), pool + k);
+        const auto put = [&pool](T value) { pool = std::fill_n(pool, kPerVector, value); };
+        for (std::size_t k = 0; k < kFixedCount; ++k) put(c.fixed_constants[k]);
+        for (auto [instruction, operand] : c.operand_constants) put(T(code[instruction].constant[operand]));
+        for (std::size_t k = kFixedCount; k < c.fixed_constants.size(); ++k) put(c.fixed_constants[k]);
         scratch.constants_of = code;
     }
     const std::size_t chunks = std::size_t(lanes) / kChunkLanes;

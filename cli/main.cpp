@@ -25,6 +25,7 @@
 #include "interp/ir_print.hpp"
 #include "interp/lower.hpp"
 #include "interp/sign_render.hpp"
+#include "interp/tape_jit.hpp"
 #include "interp/singular.hpp"
 #include "interp/vector_math.hpp"
 #include "interp/voxel_engine.hpp"
@@ -338,7 +339,7 @@ int command_run_files(const CliOptions& o) {
             "nodes: {} ({} operations), shared: {}, hash-consing reuses: {}\n"
             "classic cost: {} operations per point; voxel: {}{}\n"
             "engine: {}{}, threads: {}\n"
-            "isa: lane loops {}, float32 transcendentals {} (SLEEF)\n"
+            "isa: lane loops {}, compiled tapes {}, float32 transcendentals {} (SLEEF)\n"
             "time: compile {:.3f} s, evaluate {:.3f} s, write {:.3f} s\n"
             "speed: {} points/s\n"
             "values: min {}, max {}, inside {}, boundary {}, outside {}, invalid {}\n"
@@ -349,8 +350,8 @@ int command_run_files(const CliOptions& o) {
             format_operations(double(s.operations)),
             can.hoists ? hoisted_text(s) : "", engine->name(),
             can.sign_only ? " (interval sign renderer)" : can.float32 ? " (float32)" : "", o.threads > 0 ? o.threads : int(std::max(1u, std::thread::hardware_concurrency())),
-            lane_loop_isa(), vector_math::isa_name(vector_math::active_isa()),
-            compile_seconds, eval_seconds, write_seconds,
+            lane_loop_isa(), !tape_jit_available() ? "none" : o.engine_settings.compile ? "AVX2" : "off (--no-jit)",
+            vector_math::isa_name(vector_math::active_isa()), compile_seconds, eval_seconds, write_seconds,
             format_operations(eval_seconds > 0 ? double(grid.points()) / eval_seconds : 0.0),
             stats.min, stats.max, stats.positive, stats.zero, stats.negative, stats.invalid,
             format_bytes(eval_peak), format_bytes(peak_rss_bytes()));

@@ -606,9 +606,24 @@ public:
                 pending.insert(id);
                 continue;
             }
+            WDBG("cell %llu fails (%zu crossings)\n", (unsigned long long)id, crossings_in(id).size());
             if (add_edge_apex(id)) {  // a fan from a point of the edge keeps the crossings
                 pending.insert(id);
                 continue;
+            }
+            if (rescue_.insert(id).second) {  // the cells around it redone together, cut by its chain
+                Wedge wedge;
+                wedge.nodes = crossings_in(id);
+                wedge.seeds = {id};
+                const auto c = coords(id);
+                for (int a = 0; a < 3; ++a) wedge.span[a] = {long(c[a]), long(c[a])};
+                if (!wedge.nodes.empty()) {
+                    wedges_.push_back(std::move(wedge));
+                    if (group_wedge(wedges_.size() - 1)) {
+                        for (uint64_t g : wedges_.back().cells) pending.insert(g);
+                        continue;
+                    }
+                }
             }
             for (int c : crossings_in(id)) {
                 crossings_[c].alive = false;
@@ -616,6 +631,7 @@ public:
                     if (other != id) pending.insert(other);
             }
         }
+        for (std::size_t x = 0; x < crossings_.size(); ++x) { const Vec& q = positions_[crossings_[x].vertex]; if (std::fabs(q[1]) > 0.9 && std::fabs(q[0]+q[2]+2) < 0.1) WDBG("  end: x%zu op %d alive %d at %g %g %g\n", x, crossings_[x].operation, int(crossings_[x].alive), q[0], q[1], q[2]); }
         std::set<uint32_t> used;
         for (const auto& [id, result] : results_)
             for (const Tri& t : result.second)
@@ -1256,7 +1272,7 @@ private:
                     continue;
                 }
                 const auto partners = partners_.find(int(x));
-                if (crossings_[x].alive || distance > 2 * norm(Vec{step_[0], step_[1], step_[2]}) ||
+                if (distance > 2 * norm(Vec{step_[0], step_[1], step_[2]}) ||
                     !through[std::size_t(crossings_[x].operation)] ||
                     (partners != partners_.end() && partners->second.size() > 1))
                     continue;
@@ -1273,7 +1289,7 @@ private:
             WDBG("tip %zu at %g %g %g: %zu crossings\n", t, p[0], p[1], p[2], crossings_of_tip_[-1 - int(t)].size());
             for (int x : crossings_of_tip_[-1 - int(t)]) WDBG("   x%d op %d alive %d partners %zu at %g %g %g\n", x, crossings_[x].operation, int(crossings_[x].alive), partners_[x].size(), positions_[crossings_[x].vertex][0], positions_[crossings_[x].vertex][1], positions_[crossings_[x].vertex][2]);
         }
-        for (std::size_t x = 0; x < crossings_.size(); ++x) { const Vec& q = positions_[crossings_[x].vertex]; if (std::fabs(q[1]) < 0.1 && q[0] > 0.7 && q[2] > 0.7) WDBG("  near: x%zu op %d alive %d partners %zu at %g %g %g\n", x, crossings_[x].operation, int(crossings_[x].alive), partners_[int(x)].size(), q[0], q[1], q[2]); }
+        for (std::size_t x = 0; x < crossings_.size(); ++x) { const Vec& q = positions_[crossings_[x].vertex]; if (std::fabs(q[1]) < 0.15 && q[0] > 0.95 && q[2] < 1.0) WDBG("  near: x%zu op %d alive %d partners %zu at %g %g %g\n", x, crossings_[x].operation, int(crossings_[x].alive), partners_[int(x)].size(), q[0], q[1], q[2]); }
         // Trees: the nodes joined by links (union-find).
         std::map<int, int> parent;
         for (int n : nodes) parent[n] = n;
@@ -1398,24 +1414,43 @@ private:
         const std::size_t m = ring.size();
         // The tree: from its nodes through the crossings inside the joined cells, up to the
         // crossings on the ring (its leaves).
-        std::set<int> inner(wedge.nodes.begin(), wedge.nodes.end()), leaves;
+        std::set<int> inner, leaves;
         std::set<std::pair<int, int>> edges;
-        std::vector<int> stack(wedge.nodes.begin(), wedge.nodes.end());
+        std::vector<int> stack;
+        // A node inside the joined cells, or a leaf on the ring; false if neither (the chain
+        // leaves the block elsewhere: it is too small).
+        auto classify = [&](int b) {
+            if (b < 0 || !crossings_[b].alive) {
+                inner.insert(b), stack.push_back(b);
+            } else if (on_ring.count(b)) {
+                leaves.insert(b);
+            } else {
+                const auto two = cells_of_face(crossings_[b].face);
+                if (!in_group(two[0]) || !in_group(two[1])) return false;
+                inner.insert(b), stack.push_back(b);
+            }
+            return true;
+        };
+        // A link counts if it lies in a joined cell or in one with no triangles.
+        auto inside = [&](int a, int b) {
+            if (a < 0 || b < 0) return true;
+            const std::vector<uint64_t> near = cells_around(positions_[crossings_[a].vertex]);
+            for (uint64_t id : cells_around(positions_[crossings_[b].vertex]))
+                if (std::find(near.begin(), near.end(), id) != near.end() && (in_group(id) || (has_patch_ && !has_patch_(id))))
+                    return true;
+            return false;
+        };
+        for (int a : wedge.nodes)
+            if (!classify(a)) { WDBG("wedge: start node outside\n"); return false; }
+        stack.assign(wedge.nodes.begin(), wedge.nodes.end());
         while (!stack.empty()) {
             const int a = stack.back();
             stack.pop_back();
             for (int b : node_neighbours(a)) {
+                if (!inside(a, b)) continue;
                 edges.insert({std::min(a, b), std::max(a, b)});
                 if (inner.count(b) || leaves.count(b)) continue;
-                if (b < 0 || !crossings_[b].alive) {
-                    inner.insert(b), stack.push_back(b);
-                } else if (on_ring.count(b)) {
-                    leaves.insert(b);
-                } else {
-                    const auto two = cells_of_face(crossings_[b].face);
-                    if (!in_group(two[0]) || !in_group(two[1])) { WDBG("wedge fails at line %d\n", __LINE__); return false; }  // the block is too small
-                    inner.insert(b), stack.push_back(b);
-                }
+                if (!classify(b)) { WDBG("wedge: block too small\n"); return false; }
             }
         }
         WDBG("wedge: %zu cells, ring %zu, inner %zu leaves %zu edges %zu radius %d\n", wedge.cells.size(), m, inner.size(), leaves.size(), edges.size(), wedge.radius);
@@ -1684,6 +1719,7 @@ private:
     std::unordered_map<int, int> tip_at_;  ///< a crossing where a tip is → the tip
     std::vector<Wedge> wedges_;
     std::map<uint64_t, std::size_t> wedge_of_;            ///< a wedge's cells → the wedge
+    std::set<uint64_t> rescue_;                           ///< failed cells tried as wedges
     std::vector<uint64_t> corner_cells_;
     std::map<uint64_t, uint32_t> apex_;
     std::map<uint64_t, std::vector<int>> apex_equations_;

@@ -17,10 +17,6 @@
 #include <tuple>
 #include <unordered_map>
 #include <unordered_set>
-#include <cstdio>
-#include <cstdlib>
-static const bool kDebugWedge = std::getenv("FORTU_DEBUG_WEDGE");
-#define WDBG(...) do { if (kDebugWedge) std::fprintf(stderr, __VA_ARGS__); } while (0)
 
 namespace fortu {
 namespace {
@@ -606,7 +602,6 @@ public:
                 pending.insert(id);
                 continue;
             }
-            WDBG("cell %llu fails (%zu crossings)\n", (unsigned long long)id, crossings_in(id).size());
             if (add_edge_apex(id)) {  // a fan from a point of the edge keeps the crossings
                 pending.insert(id);
                 continue;
@@ -631,7 +626,6 @@ public:
                     if (other != id) pending.insert(other);
             }
         }
-        for (std::size_t x = 0; x < crossings_.size(); ++x) { const Vec& q = positions_[crossings_[x].vertex]; if (std::fabs(q[1]) > 0.9 && std::fabs(q[0]+q[2]+2) < 0.1) WDBG("  end: x%zu op %d alive %d at %g %g %g\n", x, crossings_[x].operation, int(crossings_[x].alive), q[0], q[1], q[2]); }
         std::set<uint32_t> used;
         for (const auto& [id, result] : results_)
             for (const Tri& t : result.second)
@@ -1286,10 +1280,7 @@ private:
         for (const auto& [x, tip] : tip_crossings_) crossings_of_tip_[tip].push_back(x);
         for (std::size_t t = 0; t < tips_.size(); ++t) {
             const Vec& p = positions_[tips_[t]];
-            WDBG("tip %zu at %g %g %g: %zu crossings\n", t, p[0], p[1], p[2], crossings_of_tip_[-1 - int(t)].size());
-            for (int x : crossings_of_tip_[-1 - int(t)]) WDBG("   x%d op %d alive %d partners %zu at %g %g %g\n", x, crossings_[x].operation, int(crossings_[x].alive), partners_[x].size(), positions_[crossings_[x].vertex][0], positions_[crossings_[x].vertex][1], positions_[crossings_[x].vertex][2]);
         }
-        for (std::size_t x = 0; x < crossings_.size(); ++x) { const Vec& q = positions_[crossings_[x].vertex]; if (std::fabs(q[1]) < 0.15 && q[0] > 0.95 && q[2] < 1.0) WDBG("  near: x%zu op %d alive %d partners %zu at %g %g %g\n", x, crossings_[x].operation, int(crossings_[x].alive), partners_[int(x)].size(), q[0], q[1], q[2]); }
         // Trees: the nodes joined by links (union-find).
         std::map<int, int> parent;
         for (int n : nodes) parent[n] = n;
@@ -1318,7 +1309,6 @@ private:
                         }
                 }
             }
-            WDBG("tree: %zu nodes, %zu seeds\n", wedge.nodes.size(), wedge.seeds.size());
             if (wedge.seeds.empty()) continue;
             wedges_.push_back(std::move(wedge));
             group_wedge(wedges_.size() - 1);
@@ -1377,7 +1367,7 @@ private:
         const Cell& box = wedge.block;
         const double h = box.h;
         std::vector<uint32_t> loop;
-        if (patch.empty() || !boundary_loop(patch, box, loop)) { WDBG("wedge fails at line %d\n", __LINE__); return false; }
+        if (patch.empty() || !boundary_loop(patch, box, loop)) return false;
         auto in_group = [&](uint64_t id) { return std::binary_search(wedge.cells.begin(), wedge.cells.end(), id); };
         // The crossings on the ring: alive, on a face between a joined cell and another.
         const std::size_t n = loop.size();
@@ -1397,7 +1387,7 @@ private:
                     if (std::pair{std::min(loop[i], loop[(i + 1) % n]), std::max(loop[i], loop[(i + 1) % n])} ==
                         crossings_[x].segment)
                         at = i;
-                if (at == n || insert[at] >= 0) { WDBG("wedge fails at line %d\n", __LINE__); return false; }
+                if (at == n || insert[at] >= 0) return false;
                 insert[at] = x;
                 on_ring.insert(x);
             }
@@ -1441,7 +1431,7 @@ private:
             return false;
         };
         for (int a : wedge.nodes)
-            if (!classify(a)) { WDBG("wedge: start node outside\n"); return false; }
+            if (!classify(a)) return false;
         stack.assign(wedge.nodes.begin(), wedge.nodes.end());
         while (!stack.empty()) {
             const int a = stack.back();
@@ -1450,19 +1440,18 @@ private:
                 if (!inside(a, b)) continue;
                 edges.insert({std::min(a, b), std::max(a, b)});
                 if (inner.count(b) || leaves.count(b)) continue;
-                if (!classify(b)) { WDBG("wedge: block too small\n"); return false; }
+                if (!classify(b)) return false;
             }
         }
-        WDBG("wedge: %zu cells, ring %zu, inner %zu leaves %zu edges %zu radius %d\n", wedge.cells.size(), m, inner.size(), leaves.size(), edges.size(), wedge.radius);
-        if (leaves.size() < 2 || edges.size() + 1 != inner.size() + leaves.size()) { WDBG("wedge fails at line %d\n", __LINE__); return false; }  // not a tree
+        if (leaves.size() < 2 || edges.size() + 1 != inner.size() + leaves.size()) return false;  // not a tree
         for (int x : inner)
-            if (!box.contains(node_position(x), 1e-12 * h)) { WDBG("wedge fails at line %d\n", __LINE__); return false; }
+            if (!box.contains(node_position(x), 1e-12 * h)) return false;
         std::map<int, std::vector<int>> adjacent;
         for (const auto& [a, b] : edges) adjacent[a].push_back(b), adjacent[b].push_back(a);
         std::vector<std::pair<std::size_t, int>> ends;  // leaves by their place on the ring
         for (int x : leaves) {
             const auto it = ring_index.find(crossings_[x].vertex);
-            if (it == ring_index.end()) { WDBG("wedge fails at line %d\n", __LINE__); return false; }
+            if (it == ring_index.end()) return false;
             ends.push_back({it->second, x});
         }
         std::sort(ends.begin(), ends.end());
@@ -1485,15 +1474,15 @@ private:
                 for (int b : adjacent[a])
                     if (!came_from.count(b) && (b == start || inner.count(b))) came_from[b] = a, frontier.push_back(b);
             }
-            if (!came_from.count(start)) { WDBG("wedge fails at line %d\n", __LINE__); return false; }
+            if (!came_from.count(start)) return false;
             std::vector<uint32_t> back;
             for (int a = came_from[start]; a != target; a = came_from[a]) back.push_back(node_vertex(a));
             poly.insert(poly.end(), back.rbegin(), back.rend());
             first_of.push_back(triangles.size());
-            if (!triangulate(poly, box, triangles, kMaxWedgePolygon)) { WDBG("wedge fails at line %d\n", __LINE__); return false; }
+            if (!triangulate(poly, box, triangles, kMaxWedgePolygon)) return false;
         }
         first_of.push_back(triangles.size());
-        if (polygons_cross(triangles, first_of, h)) { WDBG("wedge fails at line %d\n", __LINE__); return false; }
+        if (polygons_cross(triangles, first_of, h)) return false;
         chain_edges_ += edges.size();
         out = std::move(triangles);
         return true;

@@ -606,20 +606,6 @@ public:
                 pending.insert(id);
                 continue;
             }
-            if (rescue_.insert(id).second) {  // the cells around it redone together, cut by its chain
-                Wedge wedge;
-                wedge.nodes = crossings_in(id);
-                wedge.seeds = {id};
-                const auto c = coords(id);
-                for (int a = 0; a < 3; ++a) wedge.span[a] = {long(c[a]), long(c[a])};
-                if (!wedge.nodes.empty()) {
-                    wedges_.push_back(std::move(wedge));
-                    if (group_wedge(wedges_.size() - 1)) {
-                        for (uint64_t g : wedges_.back().cells) pending.insert(g);
-                        continue;
-                    }
-                }
-            }
             for (int c : crossings_in(id)) {
                 crossings_[c].alive = false;
                 for (uint64_t other : cells_sharing(crossings_[c]))
@@ -1107,14 +1093,14 @@ private:
     /// the neighbour's patch meets) and none degenerate; then checked to be a graph over the
     /// plane across its mean normal (its triangles keep their orientation there and its
     /// boundary does not cross itself), so it cannot fold or cross itself.
-    bool triangulate(const std::vector<uint32_t>& poly, const Cell& cell, std::vector<Tri>& out,
-                     int max_vertices = 64) const {
+    bool triangulate(const std::vector<uint32_t>& poly, const Cell& cell, std::vector<Tri>& out, int max_vertices = 64,
+                     const std::function<bool(uint32_t, uint32_t)>& allowed = {}) const {
         const int n = int(poly.size());
         if (n < 3 || n > max_vertices) return false;
         const double h = cell.h, tolerance = 1e-9 * h;
         std::vector<int> faces(n);
         for (int i = 0; i < n; ++i) faces[i] = cell.faces_of(positions_[poly[i]], tolerance);
-        auto diagonal_ok = [&](int i, int j) { return (faces[i] & faces[j]) == 0; };
+        auto diagonal_ok = [&](int i, int j) { return (faces[i] & faces[j]) == 0 && (!allowed || allowed(poly[i], poly[j])); };
         const double inf = std::numeric_limits<double>::infinity();
         std::vector<double> cost(n * n, 0);
         std::vector<int> best(n * n, -1);
@@ -1309,7 +1295,10 @@ private:
                         }
                 }
             }
-            if (wedge.seeds.empty()) continue;
+            // Only trees that reach a tip for now: gaps in the middle of an edge are left as
+            // they were (a wedge there met a neighbour's edge on Chainik's flat faces).
+            const bool has_tip = std::any_of(wedge.nodes.begin(), wedge.nodes.end(), [](int n) { return n < 0; });
+            if (wedge.seeds.empty() || !has_tip) continue;
             wedges_.push_back(std::move(wedge));
             group_wedge(wedges_.size() - 1);
         }
@@ -1444,8 +1433,11 @@ private:
             }
         }
         if (leaves.size() < 2 || edges.size() + 1 != inner.size() + leaves.size()) return false;  // not a tree
-        for (int x : inner)
+        for (int x : inner) {  // inside the block, and on no cell with triangles outside the group
             if (!box.contains(node_position(x), 1e-12 * h)) return false;
+            for (uint64_t id : cells_around(node_position(x)))
+                if (!in_group(id) && (!has_patch_ || has_patch_(id))) return false;
+        }
         std::map<int, std::vector<int>> adjacent;
         for (const auto& [a, b] : edges) adjacent[a].push_back(b), adjacent[b].push_back(a);
         std::vector<std::pair<std::size_t, int>> ends;  // leaves by their place on the ring
@@ -1455,6 +1447,22 @@ private:
             ends.push_back({it->second, x});
         }
         std::sort(ends.begin(), ends.end());
+        // No new edge between two points of one cell with triangles outside the group: it could
+        // be an edge that cell has too (on its faces, or across it).
+        std::map<uint32_t, std::vector<uint64_t>> outside_cells;
+        auto no_shared_outside_cell = [&](uint32_t u, uint32_t v) {
+            for (uint32_t w : {u, v})
+                if (!outside_cells.count(w)) {
+                    auto& list = outside_cells[w];
+                    for (uint64_t id : cells_around(positions_[w]))
+                        if (!in_group(id) && (!has_patch_ || has_patch_(id))) list.push_back(id);
+                }
+            for (uint64_t id : outside_cells[u])
+                if (std::find(outside_cells[v].begin(), outside_cells[v].end(), id) != outside_cells[v].end()) return false;
+            return true;
+        };
+        for (const auto& [a, b] : edges)
+            if (!no_shared_outside_cell(node_vertex(a), node_vertex(b))) return false;
         std::vector<Tri> triangles;
         std::vector<std::size_t> first_of;
         for (std::size_t e = 0; e < ends.size(); ++e) {
@@ -1479,7 +1487,7 @@ private:
             for (int a = came_from[start]; a != target; a = came_from[a]) back.push_back(node_vertex(a));
             poly.insert(poly.end(), back.rbegin(), back.rend());
             first_of.push_back(triangles.size());
-            if (!triangulate(poly, box, triangles, kMaxWedgePolygon)) return false;
+            if (!triangulate(poly, box, triangles, kMaxWedgePolygon, no_shared_outside_cell)) return false;
         }
         first_of.push_back(triangles.size());
         if (polygons_cross(triangles, first_of, h)) return false;
@@ -1708,7 +1716,6 @@ private:
     std::unordered_map<int, int> tip_at_;  ///< a crossing where a tip is → the tip
     std::vector<Wedge> wedges_;
     std::map<uint64_t, std::size_t> wedge_of_;            ///< a wedge's cells → the wedge
-    std::set<uint64_t> rescue_;                           ///< failed cells tried as wedges
     std::vector<uint64_t> corner_cells_;
     std::map<uint64_t, uint32_t> apex_;
     std::map<uint64_t, std::vector<int>> apex_equations_;

@@ -349,6 +349,20 @@ struct Crossing {
     bool on_mesh_vertex = false;
 };
 
+/// Features in cells marching tetrahedra left empty: where the solid is thinner than a cell
+/// (an acute edge's wedge, a tip whose cell holds no node inside), the traced crossings there
+/// have no patch segment to go into. Such crossings (and tips), joined by their links, form a
+/// tree whose leaves are crossings on patches; the patches of a block of cells around it are
+/// redone together, cut along the tree (wedges_ in ChainBuilder).
+struct Wedge {
+    std::vector<int> nodes;  ///< crossings with no segment, and tips as -1 - index
+    std::vector<uint64_t> seeds;  ///< the cells with triangles that hold a link into the tree
+    std::array<std::pair<long, long>, 3> span;  ///< per axis, the cells the tree's points lie in
+    int radius = 0;               ///< of the block tried last
+    Cell block;                   ///< the cells within `radius` of the span
+    std::vector<uint64_t> cells;  ///< sorted: the cells with triangles joined, of the block
+};
+
 /// The sharp-feature pass: traces the edge curves cell to cell, puts a vertex where each
 /// crosses a cell face and one at each corner, and re-triangulates the cells they cross.
 class ChainBuilder {
@@ -521,8 +535,10 @@ public:
         for (uint64_t id : corner_cells_) find_corner(id);
         for (uint64_t id : end_cells_) find_corner(id);
         choose_segments(patch_of);
+        plan_wedges();
         std::vector<uint64_t> queue;
         for (const auto& [id, apex] : apex_) queue.push_back(id);
+        for (const auto& [id, wedge] : wedge_of_) queue.push_back(id);
         for (const Crossing& c : crossings_)
             if (c.alive)
                 for (uint64_t id : cells_sharing(c)) queue.push_back(id);
@@ -533,6 +549,26 @@ public:
             const uint64_t id = *pending.begin();
             pending.erase(pending.begin());
             std::vector<Tri> triangles;
+            if (const auto wedge = wedge_of_.find(id); wedge != wedge_of_.end()) {
+                // Features in cells with no triangles: the patches around them redone together.
+                const std::size_t index = wedge->second;
+                const std::vector<uint64_t> cells = wedges_[index].cells;
+                std::vector<uint32_t> joined;
+                for (uint64_t g : cells) {
+                    const auto patch = patch_of(g);
+                    if (patch) joined.insert(joined.end(), patch->begin(), patch->end());
+                    results_.erase(g);
+                    pending.erase(g);
+                }
+                if (build_wedge(wedges_[index], joined, triangles)) {
+                    results_[cells.front()] = {std::move(joined), std::move(triangles)};
+                    continue;
+                }
+                for (uint64_t g : cells) wedge_of_.erase(g), pending.insert(g);  // each on its own
+                if (group_wedge(index))  // or a larger block
+                    for (uint64_t g : wedges_[index].cells) pending.insert(g);
+                continue;
+            }
             if (const auto group = groups_.find(id); group != groups_.end()) {
                 // A corner the cells around it share: one fan over their joined patches.
                 const std::vector<uint64_t> cells = group->second;
@@ -580,10 +616,12 @@ public:
         for (const auto& [id, result] : results_)
             for (const Tri& t : result.second)
                 for (uint32_t v : t) used.insert(v);
-        for (const Crossing& c : crossings_) stats.edge_vertices += c.alive && used.count(c.vertex);
+        for (const Crossing& c : crossings_) stats.edge_vertices += used.count(c.vertex);
         std::set<uint32_t> corners;
         for (const auto& [id, apex] : apex_)
             if (used.count(apex)) corners.insert(apex);
+        for (uint32_t tip : tips_)
+            if (used.count(tip)) corners.insert(tip);
         stats.corner_vertices = corners.size();
         stats.chain_edges = chain_edges_;
     }
@@ -724,6 +762,8 @@ private:
     /// a piece along a grid edge, the cells around it that have triangles).
     void add_link(int a, int b) {
         const std::pair<int, int> link{std::min(a, b), std::max(a, b)};
+        if (std::find(partners_[a].begin(), partners_[a].end(), b) == partners_[a].end())
+            partners_[a].push_back(b), partners_[b].push_back(a);
         std::vector<uint64_t> near = cells_around(positions_[crossings_[a].vertex]);
         const std::vector<uint64_t> other = cells_around(positions_[crossings_[b].vertex]);
         for (uint64_t cell : near) {
@@ -882,6 +922,11 @@ private:
         }
         if (cells.size() > 1)
             for (uint64_t at : cells) groups_[at] = cells;
+        if (cells.empty() && vertex == UINT32_MAX) {  // a tip the lattice misses (wedges, below)
+            tips_.push_back(uint32_t(positions_.size()));
+            positions_.push_back(p);
+            normals_.push_back(edge_normal(p, equations));
+        }
     }
 
     /// For a cell whose crossings cannot be joined by edges (the boundary split along them
@@ -1048,13 +1093,14 @@ private:
     /// the neighbour's patch meets) and none degenerate; then checked to be a graph over the
     /// plane across its mean normal (its triangles keep their orientation there and its
     /// boundary does not cross itself), so it cannot fold or cross itself.
-    bool triangulate(const std::vector<uint32_t>& poly, const Cell& cell, std::vector<Tri>& out) const {
+    bool triangulate(const std::vector<uint32_t>& poly, const Cell& cell, std::vector<Tri>& out, int max_vertices = 64,
+                     const std::function<bool(uint32_t, uint32_t)>& allowed = {}) const {
         const int n = int(poly.size());
-        if (n < 3 || n > 64) return false;
+        if (n < 3 || n > max_vertices) return false;
         const double h = cell.h, tolerance = 1e-9 * h;
         std::vector<int> faces(n);
         for (int i = 0; i < n; ++i) faces[i] = cell.faces_of(positions_[poly[i]], tolerance);
-        auto diagonal_ok = [&](int i, int j) { return (faces[i] & faces[j]) == 0; };
+        auto diagonal_ok = [&](int i, int j) { return (faces[i] & faces[j]) == 0 && (!allowed || allowed(poly[i], poly[j])); };
         const double inf = std::numeric_limits<double>::infinity();
         std::vector<double> cost(n * n, 0);
         std::vector<int> best(n * n, -1);
@@ -1116,6 +1162,355 @@ private:
             }
         out.insert(out.end(), triangles.begin(), triangles.end());
         return true;
+    }
+
+    // ---- Wedges: features in cells with no triangles --------------------------------------
+
+    Vec node_position(int node) const {
+        return positions_[node >= 0 ? crossings_[node].vertex : tips_[std::size_t(-1 - node)]];
+    }
+    uint32_t node_vertex(int node) const { return node >= 0 ? crossings_[node].vertex : tips_[std::size_t(-1 - node)]; }
+
+    /// The tree's neighbours of a node: a crossing's linked crossings and the tip whose cell
+    /// holds it; a tip's crossings on its cells' faces (the ends of the edges into it).
+    std::vector<int> node_neighbours(int node) const {
+        std::vector<int> out;
+        if (node >= 0) {
+            if (const auto it = partners_.find(node); it != partners_.end()) out = it->second;
+            if (const auto it = tip_crossings_.find(node); it != tip_crossings_.end()) out.push_back(it->second);
+        } else if (const auto it = crossings_of_tip_.find(node); it != crossings_of_tip_.end()) {
+            out = it->second;
+        }
+        for (int& m : out)  // a crossing at the tip itself is the tip
+            if (const auto it = tip_at_.find(m); it != tip_at_.end()) m = it->second;
+        std::sort(out.begin(), out.end());
+        out.erase(std::unique(out.begin(), out.end()), out.end());
+        std::erase(out, node);
+        return out;
+    }
+
+    /// After choose_segments: the crossings that found no segment (and tips), grouped by their
+    /// links into trees; each tree with links to crossings on patches becomes a wedge.
+    void plan_wedges() {
+        const double h = lattice_h();
+        std::vector<int> nodes;
+        for (std::size_t t = 0; t < tips_.size(); ++t) nodes.push_back(-1 - int(t));
+        std::vector<char> corner_vertex(positions_.size(), 0);
+        for (const auto& [id, apex] : apex_) corner_vertex[apex] = 1;
+        for (uint32_t tip : tips_) corner_vertex[tip] = 1;
+        std::vector<Vec> corners;
+        for (std::size_t v = 0; v < positions_.size(); ++v)
+            if (corner_vertex[v]) corners.push_back(positions_[v]);
+        for (std::size_t x = 0; x < crossings_.size(); ++x) {
+            if (crossings_[x].alive) continue;
+            bool at_corner = false;  // a crossing a corner replaced
+            for (const Vec& c : corners) at_corner |= norm(sub(c, positions_[crossings_[x].vertex])) <= 1e-9 * h;
+            if (!at_corner) nodes.push_back(int(x));
+        }
+        if (nodes.empty()) return;
+        // The edges into a tip: the chains of its operations that end (one link) near it. A
+        // trace stops at the last face before the curve leaves the surface, in the tip's cell
+        // or the one before it.
+        for (std::size_t t = 0; t < tips_.size(); ++t) {
+            const int tip = -1 - int(t);
+            const Vec& p = positions_[tips_[t]];
+            field_.at(p);
+            auto zero = [&](int e) {
+                const double g = norm(field_.gradient(e));
+                return std::fabs(field_.value(e)) <= 1e-9 * h * (1 + (std::isfinite(g) ? g : 0));
+            };
+            std::vector<char> through(field_.operations().size(), 0);
+            for (std::size_t k = 0; k < through.size(); ++k)
+                through[k] = zero(field_.operations()[k].a) && zero(field_.operations()[k].b);
+            // A chain that passes the tip (the trace crossed the kink there) is cut at it: the
+            // link through its cell becomes two edges into the tip.
+            const std::vector<uint64_t> tip_cells = cells_around(p);
+            for (std::size_t x = 0; x < crossings_.size(); ++x) {
+                if (crossings_[x].alive || !through[std::size_t(crossings_[x].operation)]) continue;
+                auto& list = partners_[int(x)];
+                for (std::size_t i = 0; i < list.size();) {
+                    const int y = list[i];
+                    bool passes = false;
+                    const std::vector<uint64_t> near = cells_around(positions_[crossings_[x].vertex]),
+                                                far = cells_around(positions_[crossings_[y].vertex]);
+                    for (uint64_t id : tip_cells)
+                        passes |= std::find(near.begin(), near.end(), id) != near.end() &&
+                                  std::find(far.begin(), far.end(), id) != far.end();
+                    if (!passes || crossings_[y].alive) {
+                        ++i;
+                        continue;
+                    }
+                    list.erase(list.begin() + long(i));
+                    std::erase(partners_[y], int(x));
+                    tip_crossings_[int(x)] = tip, tip_crossings_[y] = tip;
+                }
+            }
+            for (std::size_t x = 0; x < crossings_.size(); ++x) {
+                const double distance = norm(sub(positions_[crossings_[x].vertex], p));
+                if (distance <= 1e-9 * h) {
+                    tip_at_[int(x)] = tip;
+                    continue;
+                }
+                const auto partners = partners_.find(int(x));
+                if (distance > 2 * norm(Vec{step_[0], step_[1], step_[2]}) ||
+                    !through[std::size_t(crossings_[x].operation)] ||
+                    (partners != partners_.end() && partners->second.size() > 1))
+                    continue;
+                if (const auto it = tip_crossings_.find(int(x));
+                    it != tip_crossings_.end() && norm(sub(positions_[tips_[std::size_t(-1 - it->second)]],
+                                                            positions_[crossings_[x].vertex])) <= distance)
+                    continue;  // nearer another tip
+                tip_crossings_[int(x)] = tip;
+            }
+        }
+        for (const auto& [x, tip] : tip_crossings_) crossings_of_tip_[tip].push_back(x);
+        for (std::size_t t = 0; t < tips_.size(); ++t) {
+            const Vec& p = positions_[tips_[t]];
+        }
+        // Trees: the nodes joined by links (union-find).
+        std::map<int, int> parent;
+        for (int n : nodes) parent[n] = n;
+        std::function<int(int)> root = [&](int n) { return parent[n] == n ? n : parent[n] = root(parent[n]); };
+        for (int n : nodes)
+            for (int m : node_neighbours(n))
+                if (parent.count(m)) parent[root(n)] = root(m);
+        std::map<int, Wedge> trees;
+        for (int n : nodes) trees[root(n)].nodes.push_back(n);
+        for (auto& [r, wedge] : trees) {
+            for (int a = 0; a < 3; ++a) wedge.span[a] = {cells_[a], -1};
+            auto widen = [&](uint64_t id) {
+                const auto c = coords(id);
+                for (int a = 0; a < 3; ++a)
+                    wedge.span[a] = {std::min(wedge.span[a].first, long(c[a])), std::max(wedge.span[a].second, long(c[a]))};
+            };
+            for (int n : wedge.nodes) {
+                for (uint64_t id : cells_around(node_position(n))) widen(id);
+                if (n < 0) continue;
+                for (int m : node_neighbours(n)) {
+                    if (m < 0 || !crossings_[m].alive) continue;
+                    for (uint64_t id : cells_around(positions_[crossings_[m].vertex]))
+                        if (has_patch_ && has_patch_(id)) {
+                            const auto near = cells_around(positions_[crossings_[n].vertex]);
+                            if (std::find(near.begin(), near.end(), id) != near.end()) wedge.seeds.push_back(id), widen(id);
+                        }
+                }
+            }
+            // Only trees that reach a tip for now: gaps in the middle of an edge are left as
+            // they were (a wedge there met a neighbour's edge on Chainik's flat faces).
+            const bool has_tip = std::any_of(wedge.nodes.begin(), wedge.nodes.end(), [](int n) { return n < 0; });
+            if (wedge.seeds.empty() || !has_tip) continue;
+            wedges_.push_back(std::move(wedge));
+            group_wedge(wedges_.size() - 1);
+        }
+    }
+
+    /// Joins the cells with triangles of wedge w's next larger block (one cell around the
+    /// tree's cells, then two, up to kMaxWedgeRadius) reached from its seeds across faces, so
+    /// the joined patches are one piece of surface; false when none is left to try.
+    bool group_wedge(std::size_t w) {
+        Wedge& wedge = wedges_[w];
+        wedge.cells.clear();
+        while (++wedge.radius <= kMaxWedgeRadius) {
+            std::array<std::pair<long, long>, 3> range;
+            for (int a = 0; a < 3; ++a) {
+                range[a] = {std::max(0L, wedge.span[a].first - wedge.radius),
+                            std::min(long(cells_[a]) - 1, wedge.span[a].second + wedge.radius)};
+                wedge.block.lo[a] = min_[a] + double(range[a].first) * step_[a];
+                wedge.block.hi[a] = min_[a] + double(range[a].second + 1) * step_[a];
+            }
+            wedge.block.h = lattice_h();
+            auto eligible = [&](uint64_t id) {
+                const auto c = coords(id);
+                for (int a = 0; a < 3; ++a)
+                    if (long(c[a]) < range[a].first || long(c[a]) > range[a].second) return false;
+                return (!has_patch_ || has_patch_(id)) && !apex_.count(id) && !groups_.count(id) && !wedge_of_.count(id);
+            };
+            std::set<uint64_t> reached;
+            std::vector<uint64_t> stack;
+            for (uint64_t id : wedge.seeds)
+                if (eligible(id) && reached.insert(id).second) stack.push_back(id);
+            while (!stack.empty()) {
+                const uint64_t id = stack.back();
+                stack.pop_back();
+                const auto c = coords(id);
+                for (int a = 0; a < 3; ++a)
+                    for (int side = 0; side < 2; ++side) {
+                        if (side == 0 ? c[a] == 0 : c[a] + 1 >= uint64_t(cells_[a])) continue;
+                        const uint64_t next = side ? id + stride(a) : id - stride(a);
+                        if (eligible(next) && reached.insert(next).second) stack.push_back(next);
+                    }
+            }
+            if (reached.empty()) continue;
+            wedge.cells.assign(reached.begin(), reached.end());
+            for (uint64_t id : wedge.cells) wedge_of_[id] = w;
+            return true;
+        }
+        return false;
+    }
+
+    /// The wedge's joined patch redone: its boundary ring with the crossings on it put in,
+    /// cut by the tree (the polygon between two leaves next to each other on the ring is the
+    /// ring's arc between them and the tree's path back), each polygon triangulated with
+    /// least area and the polygons checked not to cross, as build_cell does for one cell.
+    bool build_wedge(const Wedge& wedge, const std::vector<uint32_t>& patch, std::vector<Tri>& out) {
+        const Cell& box = wedge.block;
+        const double h = box.h;
+        std::vector<uint32_t> loop;
+        if (patch.empty() || !boundary_loop(patch, box, loop)) return false;
+        auto in_group = [&](uint64_t id) { return std::binary_search(wedge.cells.begin(), wedge.cells.end(), id); };
+        // The crossings on the ring: alive, on a face between a joined cell and another.
+        const std::size_t n = loop.size();
+        std::vector<int> insert(n, -1);
+        std::set<int> on_ring;
+        for (uint64_t id : wedge.cells)
+            for (int x : crossings_in(id)) {
+                if (on_ring.count(x)) continue;
+                if (crossings_[x].on_mesh_vertex) {
+                    on_ring.insert(x);
+                    continue;
+                }
+                const auto two = cells_of_face(crossings_[x].face);
+                if (in_group(two[0]) && in_group(two[1])) continue;  // inside: the tree may use it
+                std::size_t at = n;
+                for (std::size_t i = 0; i < n; ++i)
+                    if (std::pair{std::min(loop[i], loop[(i + 1) % n]), std::max(loop[i], loop[(i + 1) % n])} ==
+                        crossings_[x].segment)
+                        at = i;
+                if (at == n || insert[at] >= 0) return false;
+                insert[at] = x;
+                on_ring.insert(x);
+            }
+        std::vector<uint32_t> ring;
+        std::map<uint32_t, std::size_t> ring_index;  // vertex → its index in the ring
+        for (std::size_t i = 0; i < n; ++i) {
+            ring_index[loop[i]] = ring.size();
+            ring.push_back(loop[i]);
+            if (insert[i] >= 0) {
+                ring_index[crossings_[insert[i]].vertex] = ring.size();
+                ring.push_back(crossings_[insert[i]].vertex);
+            }
+        }
+        const std::size_t m = ring.size();
+        // The tree: from its nodes through the crossings inside the joined cells, up to the
+        // crossings on the ring (its leaves).
+        std::set<int> inner, leaves;
+        std::set<std::pair<int, int>> edges;
+        std::vector<int> stack;
+        // A node inside the joined cells, or a leaf on the ring; false if neither (the chain
+        // leaves the block elsewhere: it is too small).
+        auto classify = [&](int b) {
+            if (b < 0 || !crossings_[b].alive) {
+                inner.insert(b), stack.push_back(b);
+            } else if (on_ring.count(b)) {
+                leaves.insert(b);
+            } else {
+                const auto two = cells_of_face(crossings_[b].face);
+                if (!in_group(two[0]) || !in_group(two[1])) return false;
+                inner.insert(b), stack.push_back(b);
+            }
+            return true;
+        };
+        // A link counts if it lies in a joined cell or in one with no triangles.
+        auto inside = [&](int a, int b) {
+            if (a < 0 || b < 0) return true;
+            const std::vector<uint64_t> near = cells_around(positions_[crossings_[a].vertex]);
+            for (uint64_t id : cells_around(positions_[crossings_[b].vertex]))
+                if (std::find(near.begin(), near.end(), id) != near.end() && (in_group(id) || (has_patch_ && !has_patch_(id))))
+                    return true;
+            return false;
+        };
+        for (int a : wedge.nodes)
+            if (!classify(a)) return false;
+        stack.assign(wedge.nodes.begin(), wedge.nodes.end());
+        while (!stack.empty()) {
+            const int a = stack.back();
+            stack.pop_back();
+            for (int b : node_neighbours(a)) {
+                if (!inside(a, b)) continue;
+                edges.insert({std::min(a, b), std::max(a, b)});
+                if (inner.count(b) || leaves.count(b)) continue;
+                if (!classify(b)) return false;
+            }
+        }
+        if (leaves.size() < 2 || edges.size() + 1 != inner.size() + leaves.size()) return false;  // not a tree
+        for (int x : inner) {  // inside the block, and on no cell with triangles outside the group
+            if (!box.contains(node_position(x), 1e-12 * h)) return false;
+            for (uint64_t id : cells_around(node_position(x)))
+                if (!in_group(id) && (!has_patch_ || has_patch_(id))) return false;
+        }
+        std::map<int, std::vector<int>> adjacent;
+        for (const auto& [a, b] : edges) adjacent[a].push_back(b), adjacent[b].push_back(a);
+        std::vector<std::pair<std::size_t, int>> ends;  // leaves by their place on the ring
+        for (int x : leaves) {
+            const auto it = ring_index.find(crossings_[x].vertex);
+            if (it == ring_index.end()) return false;
+            ends.push_back({it->second, x});
+        }
+        std::sort(ends.begin(), ends.end());
+        // No new edge between two points of one cell with triangles outside the group: it could
+        // be an edge that cell has too (on its faces, or across it).
+        std::map<uint32_t, std::vector<uint64_t>> outside_cells;
+        auto no_shared_outside_cell = [&](uint32_t u, uint32_t v) {
+            for (uint32_t w : {u, v})
+                if (!outside_cells.count(w)) {
+                    auto& list = outside_cells[w];
+                    for (uint64_t id : cells_around(positions_[w]))
+                        if (!in_group(id) && (!has_patch_ || has_patch_(id))) list.push_back(id);
+                }
+            for (uint64_t id : outside_cells[u])
+                if (std::find(outside_cells[v].begin(), outside_cells[v].end(), id) != outside_cells[v].end()) return false;
+            return true;
+        };
+        for (const auto& [a, b] : edges)
+            if (!no_shared_outside_cell(node_vertex(a), node_vertex(b))) return false;
+        std::vector<Tri> triangles;
+        std::vector<std::size_t> first_of;
+        for (std::size_t e = 0; e < ends.size(); ++e) {
+            const auto [from, start] = ends[e];
+            const auto [to, target] = ends[(e + 1) % ends.size()];
+            std::vector<uint32_t> poly;
+            for (std::size_t i = from;; i = (i + 1) % m) {
+                poly.push_back(ring[i]);
+                if (i == to) break;
+            }
+            // The tree's path from `target` back to `start`, through inner nodes only.
+            std::map<int, int> came_from{{target, target}};
+            std::vector<int> frontier{target};
+            while (!frontier.empty() && !came_from.count(start)) {
+                const int a = frontier.back();
+                frontier.pop_back();
+                for (int b : adjacent[a])
+                    if (!came_from.count(b) && (b == start || inner.count(b))) came_from[b] = a, frontier.push_back(b);
+            }
+            if (!came_from.count(start)) return false;
+            std::vector<uint32_t> back;
+            for (int a = came_from[start]; a != target; a = came_from[a]) back.push_back(node_vertex(a));
+            poly.insert(poly.end(), back.rbegin(), back.rend());
+            first_of.push_back(triangles.size());
+            if (!triangulate(poly, box, triangles, kMaxWedgePolygon, no_shared_outside_cell)) return false;
+        }
+        first_of.push_back(triangles.size());
+        if (polygons_cross(triangles, first_of, h)) return false;
+        chain_edges_ += edges.size();
+        out = std::move(triangles);
+        return true;
+    }
+
+    /// Whether a triangle of one polygon crosses one of another (first_of: where each
+    /// polygon's triangles start, then the end): the two sides of an edge must not cross.
+    bool polygons_cross(const std::vector<Tri>& triangles, const std::vector<std::size_t>& first_of, double h) const {
+        const double eps = 1e-12 * h * h * h;
+        const auto& P = positions_;
+        for (std::size_t p = 0; p + 2 < first_of.size(); ++p)
+            for (std::size_t s = first_of[p]; s < first_of[p + 1]; ++s)
+                for (std::size_t t = first_of[p + 1]; t < triangles.size(); ++t) {
+                    const Tri &x = triangles[s], &y = triangles[t];
+                    for (int e = 0; e < 3; ++e)
+                        if (segment_through_triangle(P[x[e]], P[x[(e + 1) % 3]], P[y[0]], P[y[1]], P[y[2]], eps) ||
+                            segment_through_triangle(P[y[e]], P[y[(e + 1) % 3]], P[x[0]], P[x[1]], P[x[2]], eps))
+                            return true;
+                }
+        return false;
     }
 
     /// Cell `id`'s patch with its crossings put on its boundary and cut along its feature
@@ -1287,18 +1682,7 @@ private:
             }
             first_of.push_back(triangles.size());
             // Triangles of different polygons (the two sides of an edge) must not cross.
-            const double eps = 1e-12 * h * h * h;
-            for (std::size_t p = 0; p + 1 < polygons.size(); ++p)
-                for (std::size_t s = first_of[p]; s < first_of[p + 1]; ++s)
-                    for (std::size_t t = first_of[p + 1]; t < triangles.size(); ++t) {
-                        const Tri &x = triangles[s], &y = triangles[t];
-                        for (int e = 0; e < 3; ++e) {
-                            const auto& P = positions_;
-                            if (segment_through_triangle(P[x[e]], P[x[(e + 1) % 3]], P[y[0]], P[y[1]], P[y[2]], eps) ||
-                                segment_through_triangle(P[y[e]], P[y[(e + 1) % 3]], P[x[0]], P[x[1]], P[x[2]], eps))
-                                return false;
-                        }
-                    }
+            if (polygons_cross(triangles, first_of, h)) return false;
         }
         chain_edges_ += feature_edges;  // an estimate for --stats: a cell redone later counts again
         out = std::move(triangles);
@@ -1307,6 +1691,8 @@ private:
 
     static constexpr int kMaxTraceSteps = 1 << 22;
     static constexpr int kMaxStepsInCell = 64;
+    static constexpr int kMaxWedgeRadius = 3;
+    static constexpr int kMaxWedgePolygon = 256;
 
     FeatureField field_;
     Mesh& mesh_;
@@ -1323,6 +1709,13 @@ private:
     /// Cells sharing a corner on the lattice (the solid on both sides of a grid plane through
     /// it), each mapped to all of them: fanned together, their shared faces inside the fan.
     std::map<uint64_t, std::vector<uint64_t>> groups_;
+    std::unordered_map<int, std::vector<int>> partners_;  ///< each crossing's linked crossings, in any cell
+    std::vector<uint32_t> tips_;                          ///< corners in cells with no triangles
+    std::unordered_map<int, int> tip_crossings_;              ///< a crossing in a tip's cell → the tip
+    std::unordered_map<int, std::vector<int>> crossings_of_tip_;
+    std::unordered_map<int, int> tip_at_;  ///< a crossing where a tip is → the tip
+    std::vector<Wedge> wedges_;
+    std::map<uint64_t, std::size_t> wedge_of_;            ///< a wedge's cells → the wedge
     std::vector<uint64_t> corner_cells_;
     std::map<uint64_t, uint32_t> apex_;
     std::map<uint64_t, std::vector<int>> apex_equations_;

@@ -24,6 +24,10 @@
 // point is snapped exactly there and shared by every cell around it: each crossing goes into
 // one patch-boundary segment chosen once for all cells, and a corner the solid surrounds on
 // both sides of a grid plane is fanned over the joined patches of the cells around it.
+// Features in cells marching tetrahedra left empty (an acute edge's wedge thinner than a cell,
+// a tip whose cell holds no node inside): their crossings and tips, joined by the traced links,
+// form a tree whose leaves are crossings on patches; the patches of a block of cells around it
+// are redone together, cut along the tree, so the surface reaches the edge and its corners.
 #pragma once
 
 #include "interp/ir/ir.hpp"

@@ -1264,9 +1264,6 @@ private:
             }
         }
         for (const auto& [x, tip] : tip_crossings_) crossings_of_tip_[tip].push_back(x);
-        for (std::size_t t = 0; t < tips_.size(); ++t) {
-            const Vec& p = positions_[tips_[t]];
-        }
         // Trees: the nodes joined by links (union-find).
         std::map<int, int> parent;
         for (int n : nodes) parent[n] = n;

@@ -4,13 +4,16 @@
 // Why: the lane kernel (lane_kernel.hpp) runs one instruction over a whole tile before the
 // next, so every instruction streams its operands' 1024-lane arrays through L2, and shorter
 // tiles pay its per-instruction dispatch more often (1024 lanes were the fastest). Compiled
-// code has no dispatch, so it can run the whole tape over a chunk of a few vectors whose
-// values stay in L1 (prospero.vm: ~160 live slots × 128 bytes), then the next chunk.
+// code has no dispatch: a tile is cut into chunks of four vectors, and each block of two or
+// three instructions runs over all the chunks before the next block. Short blocks keep the
+// code in the instruction cache (which, not the data, set the speed: README "Compiled
+// tapes"), and an instruction's result stays in registers for the next one.
 //
 // The values are the lane kernel's, bit for bit: arithmetic, square roots, min, max, select,
 // sign and the R-operations are emitted as the same IEEE operations in the same order
-// (-ffp-contract=off keeps the C++ side unfused); every other operation calls the lane kernel
-// itself for the chunk. Lanes are independent, so running the tape chunk by chunk instead of
+// (-ffp-contract=off keeps the C++ side unfused); float32 transcendentals call the SLEEF
+// functions the lane kernel calls; every other operation calls the lane kernel itself for the
+// chunk. Lanes are independent, so running the tape chunk by chunk instead of
 // instruction by instruction changes no value.
 #pragma once
 
@@ -52,15 +55,12 @@ public:
     void run(const Instruction* code, std::size_t count, T* const* slots, int lanes, JitScratch<T>& scratch,
              bool constants_changed) const;
 
-    std::size_t code_bytes() const { return code_bytes_; }
-
     struct Site;        ///< an instruction the compiled code hands back to the lane kernel
     struct Compiled;    ///< the machine code and what it reads
 
 private:
     CompiledTape() = default;
     std::unique_ptr<Compiled> compiled_;
-    std::size_t code_bytes_ = 0;
 };
 
 /// Whether CompiledTape::compile can succeed on this CPU (AVX2).

@@ -24,6 +24,16 @@ namespace {
 using Vec = std::array<double, 3>;
 using Tri = std::array<uint32_t, 3>;
 
+/// The index of the boundary segment {a, b} (either way round) in the closed `loop`, or
+/// loop.size() when it is not one of its segments.
+std::size_t segment_index(const std::vector<uint32_t>& loop, std::pair<uint32_t, uint32_t> segment) {
+    const std::size_t n = loop.size();
+    std::size_t at = n;
+    for (std::size_t i = 0; i < n; ++i)
+        if (std::pair{std::min(loop[i], loop[(i + 1) % n]), std::max(loop[i], loop[(i + 1) % n])} == segment) at = i;
+    return at;
+}
+
 Vec sub(const Vec& a, const Vec& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
 double dot(const Vec& a, const Vec& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 Vec cross(const Vec& a, const Vec& b) {
@@ -1368,11 +1378,7 @@ private:
                 }
                 const auto two = cells_of_face(crossings_[x].face);
                 if (in_group(two[0]) && in_group(two[1])) continue;  // inside: the tree may use it
-                std::size_t at = n;
-                for (std::size_t i = 0; i < n; ++i)
-                    if (std::pair{std::min(loop[i], loop[(i + 1) % n]), std::max(loop[i], loop[(i + 1) % n])} ==
-                        crossings_[x].segment)
-                        at = i;
+                const std::size_t at = segment_index(loop, crossings_[x].segment);
                 if (at == n || insert[at] >= 0) return false;
                 insert[at] = x;
                 on_ring.insert(x);
@@ -1546,11 +1552,7 @@ private:
         std::vector<int> insert(n, -1);
         for (int x : crossings) {
             if (crossings_[x].on_mesh_vertex) continue;
-            std::size_t at = n;
-            for (std::size_t i = 0; i < n; ++i)
-                if (std::pair{std::min(loop[i], loop[(i + 1) % n]), std::max(loop[i], loop[(i + 1) % n])} ==
-                    crossings_[x].segment)
-                    at = i;
+            const std::size_t at = segment_index(loop, crossings_[x].segment);
             if (at == n || insert[at] >= 0) return false;
             insert[at] = x;
         }

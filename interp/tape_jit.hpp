@@ -9,7 +9,8 @@
 // code in the instruction cache (which, not the data, set the speed: README "Compiled
 // tapes"), and an instruction's result stays in registers for the next one.
 //
-// The values are the lane kernel's, bit for bit: arithmetic, square roots, min, max, select,
+// The values are the lane kernel's, bit for bit (a NaN stays a NaN; which NaN, its sign and
+// payload, is the compiler's choice as between any two builds): arithmetic, square roots, min, max, select,
 // sign and the R-operations are emitted as the same IEEE operations in the same order
 // (-ffp-contract=off keeps the C++ side unfused); float32 transcendentals call the SLEEF
 // functions the lane kernel calls; every other operation calls the lane kernel itself for the

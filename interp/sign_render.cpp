@@ -208,16 +208,8 @@ public:
     bool evaluate_points_float32(const Box& box, const Tape& tape, double bound, Scratch& s) {
         if (!(bound < kUnbounded)) return false;
         const int n = static_cast<int>(box.points());
-        if (s.lanes32.size() < std::size_t(tape.slot_count) * kLaneStride) {
-            s.lanes32.resize(std::size_t(tape.slot_count) * kLaneStride);
-            s.slots32.resize(tape.slot_count);
-            for (std::size_t k = 0; k < s.slots32.size(); ++k) s.slots32[k] = s.lanes32.data() + k * kLaneStride;
-        }
-        with_width(box, [&](auto width) { fill_arguments<width()>(box, tape, s.slots32.data(), x32_, y32_, z32_); });
-        for (auto [slot, value] : tape.constants) std::fill_n(s.slots32[slot], n, float(value));
-        if (n == kLeafLanes) run_lanes<float, kLeafLanes>(tape.code.data(), tape.code.size(), s.slots32.data(), n);
-        else if (n == kLeafLanes3d) run_lanes<float, kLeafLanes3d>(tape.code.data(), tape.code.size(), s.slots32.data(), n);
-        else run_lanes<float, 0>(tape.code.data(), tape.code.size(), s.slots32.data(), n);
+        prepare_lanes(tape, s.lanes32, s.slots32);
+        run_leaf(box, tape, s.slots32.data(), x32_, y32_, z32_);
         const float* result = s.slots32[tape.root_slot];
         // Rounded up, so |value| > limit implies |value| > bound.
         const float limit = std::nextafter(static_cast<float>(bound), std::numeric_limits<float>::infinity());
@@ -232,7 +224,7 @@ public:
     /// The points of a float32 leaf whose |value| is within the bound (or NaN) evaluated again
     /// in float64, packed into the first lanes.
     void recheck_float64(const Box& box, const Tape& tape, Scratch& s, float limit) {
-        prepare_float64_lanes(tape, s);
+        prepare_lanes(tape, s.lanes, s.slots);
         const float* result = s.slots32[tape.root_slot];
         s.close_points.clear();
         const int width = box.hi[0] - box.lo[0] + 1, height = box.hi[1] - box.lo[1] + 1;
@@ -250,15 +242,30 @@ public:
             signs_[s.close_points[lane]] = stored_sign_of<Value>(s.slots[tape.root_slot][lane]);
     }
 
-    void prepare_float64_lanes(const Tape& tape, Scratch& s) {
-        if (s.lanes.size() < std::size_t(tape.slot_count) * kLaneStride) {
-            s.lanes.resize(std::size_t(tape.slot_count) * kLaneStride);
-            s.slots.clear();
+    /// Lane arrays of kLaneStride for every slot of `tape`, in either precision.
+    template <class F>
+    static void prepare_lanes(const Tape& tape, std::vector<F>& lanes, std::vector<F*>& slots) {
+        if (lanes.size() < std::size_t(tape.slot_count) * kLaneStride) {
+            lanes.resize(std::size_t(tape.slot_count) * kLaneStride);
+            slots.clear();
         }
-        if (s.slots.size() < tape.slot_count) {
-            s.slots.resize(s.lanes.size() / kLaneStride);
-            for (std::size_t k = 0; k < s.slots.size(); ++k) s.slots[k] = s.lanes.data() + k * kLaneStride;
+        if (slots.size() < tape.slot_count) {
+            slots.resize(lanes.size() / kLaneStride);
+            for (std::size_t k = 0; k < slots.size(); ++k) slots[k] = lanes.data() + k * kLaneStride;
         }
+    }
+
+    /// A leaf's points through the lane kernel, in either precision: arguments and constants
+    /// filled, the usual leaf sizes with a fixed lane count.
+    template <class F>
+    void run_leaf(const Box& box, const Tape& tape, F* const* slots, const std::vector<F>& xs,
+                  const std::vector<F>& ys, const std::vector<F>& zs) const {
+        const int n = static_cast<int>(box.points());
+        with_width(box, [&](auto width) { fill_arguments<width()>(box, tape, slots, xs, ys, zs); });
+        for (auto [slot, value] : tape.constants) std::fill_n(slots[slot], n, F(value));
+        if (n == kLeafLanes) run_lanes<F, kLeafLanes>(tape.code.data(), tape.code.size(), slots, n);
+        else if (n == kLeafLanes3d) run_lanes<F, kLeafLanes3d>(tape.code.data(), tape.code.size(), slots, n);
+        else run_lanes<F, 0>(tape.code.data(), tape.code.size(), slots, n);
     }
 
     /// The leaf's points: in float32 where `bound` (float32_bound) allows, else in float64.
@@ -272,12 +279,8 @@ public:
         if (ssa.slot_count > kReallocateAboveSlots) reallocate_slots(ssa, s.leaf_tape, s.slot_scratch);
         const Tape& tape = ssa.slot_count > kReallocateAboveSlots ? s.leaf_tape : ssa;
         const int n = static_cast<int>(box.points());
-        prepare_float64_lanes(tape, s);
-        with_width(box, [&](auto width) { fill_arguments<width()>(box, tape, s.slots.data(), x_, y_, z_); });
-        for (auto [slot, value] : tape.constants) std::fill_n(s.slots[slot], n, value);
-        if (n == kLeafLanes) run_lanes<double, kLeafLanes>(tape.code.data(), tape.code.size(), s.slots.data(), n);
-        else if (n == kLeafLanes3d) run_lanes<double, kLeafLanes3d>(tape.code.data(), tape.code.size(), s.slots.data(), n);
-        else run_lanes<double, 0>(tape.code.data(), tape.code.size(), s.slots.data(), n);
+        prepare_lanes(tape, s.lanes, s.slots);
+        run_leaf(box, tape, s.slots.data(), x_, y_, z_);
         const double* result = s.slots[tape.root_slot];
         with_width(box, [&](auto width) { store_signs<width()>(box, result); });
         st.leaf_points += n;

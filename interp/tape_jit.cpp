@@ -219,7 +219,8 @@ public:
 
     /// One instruction inline (compiles_inline); its result is stored unless `store_out` is
     /// false (only the next instruction reads it, from the registers).
-    void emit(const Instruction& ins, const OperandRef* refs, uint32_t r_factors, bool store_out) {
+    /// `numbers`: bit k set if operand k is never NaN.
+    void emit(const Instruction& ins, const OperandRef* refs, uint32_t r_factors, bool store_out, uint8_t numbers) {
         using ir::Op;
         const OperandRef& out = refs[0];
         const OperandRef* in = refs + 1;
@@ -252,11 +253,16 @@ public:
                 a_.emit(op, r, in_register(in[0], 1, v, t10), pool_entry(mask));
             });
         };
-        // k_min / k_max: (a < b || a != a) ? a : b; vminps gives (a < b) ? a : b.
+        // k_min / k_max: (a < b || a != a) ? a : b; vminps gives (a < b) ? a : b, the same
+        // unless a is NaN.
         const auto min_max = [&](InstId op) {
             prepare(refs, 3, store_out);
             each_vector([&](int v, const x86::Ymm& r) {
                 const x86::Ymm x = in_register(in[0], 1, v, t10);
+                if (numbers & 1u) {
+                    a_.emit(op, r, x, source(in[1], 2, v));
+                    return;
+                }
                 a_.emit(op, t8, x, source(in[1], 2, v));
                 a_.emit(cmp, t9, x, x, Imm(3));   // unordered: x is NaN
                 a_.emit(blend, r, t8, x, t9);
@@ -301,6 +307,10 @@ public:
                 const x86::Ymm a = in_register(in[1], 2, v, t11);
                 const x86::Ymm b = in_register(in[2], 3, v, t9);
                 a_.emit(cmp, t8, c, pool_entry(kZero), Imm(0x1E));
+                if (numbers & 1u) {
+                    a_.emit(blend, r, b, a, t8);
+                    return;
+                }
                 a_.emit(blend, t11, b, a, t8);
                 a_.emit(cmp, t8, c, c, Imm(3));
                 a_.emit(blend, r, t11, c, t8);
@@ -395,7 +405,7 @@ bool tape_jit_available() {
 }
 
 template <class T>
-std::unique_ptr<CompiledTape<T>> CompiledTape<T>::compile(const Tape& tape) {
+std::unique_ptr<CompiledTape<T>> CompiledTape<T>::compile(const Tape& tape, std::span<const uint8_t> numbers) {
     if (!tape_jit_available()) return nullptr;
     auto compiled = std::make_unique<Compiled>();
     Compiled& c = *compiled;
@@ -514,7 +524,7 @@ std::unique_ptr<CompiledTape<T>> CompiledTape<T>::compile(const Tape& tape) {
             block_start = a.offset();
         }
         if (compiles_inline(tape.code[i])) {
-            e.emit(tape.code[i], refs[i].data(), r_factors[i], store_out[i] != 0);
+            e.emit(tape.code[i], refs[i].data(), r_factors[i], store_out[i] != 0, numbers.empty() ? 0 : numbers[i]);
             continue;
         }
         if constexpr (std::is_same_v<T, float>) {

@@ -21,7 +21,9 @@
 #include "interp/tape.hpp"
 
 #include <cstddef>
+#include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 namespace fortu {
@@ -43,7 +45,9 @@ public:
     static constexpr int kChunkLanes = 4 * 32 / static_cast<int>(sizeof(T));
 
     /// The tape compiled for this CPU; nullptr where there is no AVX2 or code cannot be made.
-    static std::unique_ptr<CompiledTape> compile(const Tape& tape);
+    /// `numbers[i]` (when given): bit k set if operand k of instruction i is never NaN
+    /// (number_operands.hpp), so MIN, MAX and SELECT need not handle a NaN there.
+    static std::unique_ptr<CompiledTape> compile(const Tape& tape, std::span<const uint8_t> numbers = {});
     ~CompiledTape();
     CompiledTape(const CompiledTape&) = delete;
     CompiledTape& operator=(const CompiledTape&) = delete;

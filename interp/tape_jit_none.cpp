@@ -10,7 +10,7 @@ struct CompiledTape<T>::Compiled {};
 bool tape_jit_available() { return false; }
 
 template <class T>
-std::unique_ptr<CompiledTape<T>> CompiledTape<T>::compile(const Tape&) {
+std::unique_ptr<CompiledTape<T>> CompiledTape<T>::compile(const Tape&, std::span<const uint8_t>) {
     return nullptr;
 }
 

@@ -4,6 +4,7 @@
 
 #include "interp/hoist.hpp"
 #include "interp/lane_kernel.hpp"
+#include "interp/number_operands.hpp"
 #include "interp/parallel.hpp"
 #include "interp/tape_jit.hpp"
 
@@ -144,6 +145,11 @@ struct Pass {
     std::vector<InputSource<T>> inputs;     ///< by TapeSpec::inputs index
     std::vector<const T*> uniforms;         ///< by TapeSpec::uniforms index: one value per row
     std::vector<OutputSink<T>> outputs;     ///< by TapeSpec::outputs index
+    /// What the tape was compiled from, for number_operands; the first `opaque_inputs`
+    /// inputs hold values kept from elsewhere.
+    const Graph* graph = nullptr;
+    const TapeSpec* spec = nullptr;
+    std::size_t opaque_inputs = 0;
 };
 
 /// One worker's tile memory, allocated before the loop and reused for all its tiles
@@ -164,8 +170,14 @@ void run_pass(const Pass<T>& pass, const Tiling& tiling, const EvalOptions& opti
     const std::size_t plane = static_cast<std::size_t>(grid.cols()) * grid.rows();
     const std::size_t tiles = tiling.count();
     std::unique_ptr<CompiledTape<T>> compiled;
-    if (engine.compile && double(tape.code.size()) * double(grid.points()) >= engine.compile_above_lane_operations)
-        compiled = CompiledTape<T>::compile(tape);
+    if (engine.compile && double(tape.code.size()) * double(grid.points()) >= engine.compile_above_lane_operations) {
+        std::vector<uint8_t> numbers;
+        if (pass.graph)
+            numbers = number_operands(*pass.graph, *pass.spec, tape, grid,
+                                      std::is_same_v<T, float> ? Precision::Float32 : Precision::Float64,
+                                      pass.opaque_inputs);
+        compiled = CompiledTape<T>::compile(tape, numbers);
+    }
 
     // Slots of column inputs point into the column values: they need no tile memory
     // (prospero.vm has ~1000 of them).
@@ -245,8 +257,9 @@ std::vector<std::vector<T>> evaluate_nodes(const Graph& graph, const std::vector
                                            const EvalOptions& options, const VoxelOptions& engine) {
     std::vector<std::vector<T>> values(nodes.size(), std::vector<T>(grid.points()));
     if (nodes.empty()) return values;
-    const Tape tape = compile_tape(graph, TapeSpec{nodes, {}, {}});
-    Pass<T> pass{tape, grid, {}, {}, {}};
+    const TapeSpec spec{nodes, {}, {}};
+    const Tape tape = compile_tape(graph, spec);
+    Pass<T> pass{tape, grid, {}, {}, {}, &graph, &spec, 0};
     for (std::vector<T>& v : values) pass.outputs.push_back({nullptr, v.data()});
     EvalOptions quiet = options;
     quiet.progress = nullptr;
@@ -297,6 +310,7 @@ void evaluate(const Graph& graph, NodeId root, Field& field, const EvalOptions& 
         spec.inputs.push_back(node);
         inputs.push_back({values, nullptr});
     }
+    const std::size_t opaque_inputs = inputs.size();
 
     Tiling tiling = Tiling::flat(grid.points());
     std::vector<std::vector<T>> column_values, row_values, xy_values, xz_values;
@@ -346,7 +360,8 @@ void evaluate(const Graph& graph, NodeId root, Field& field, const EvalOptions& 
         }
     }
     const Tape tape = compile_tape(graph, spec);
-    run_pass(Pass<T>{tape, grid, std::move(inputs), std::move(uniforms), std::move(outputs)}, tiling, options, engine);
+    run_pass(Pass<T>{tape, grid, std::move(inputs), std::move(uniforms), std::move(outputs), &graph, &spec, opaque_inputs},
+             tiling, options, engine);
 }
 
 }  // namespace

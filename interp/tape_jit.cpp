@@ -25,10 +25,13 @@ using namespace asmjit;
 /// Vectors per chunk.
 template <class T>
 constexpr int kVectors = CompiledTape<T>::kChunkLanes * int(sizeof(T)) / 32;
-/// Machine code per block (two or three instructions): prospero.vm ran 5.6 s with the whole
-/// tape as one loop over the chunks, 2.4 s with blocks of 16 KB, 1.0 s with 4 KB, 0.63 s with
-/// 1 KB and 0.40 s with 256 bytes (float32, 1024², one thread, CPU time).
-constexpr std::size_t kBlockBytes = 256;
+/// Machine code per block (about a dozen instructions). With only the last result in
+/// registers, prospero.vm ran 5.6 s with the whole tape as one loop over the chunks, 2.4 s
+/// with blocks of 16 KB, 1.0 s with 4 KB, 0.63 s with 1 KB and 0.40 s with 256 bytes
+/// (float32, 1024², one thread, CPU time). With three results held, a block's end costs the
+/// stores and loads of what they hold: medians of 5, 0.35 s at 256 bytes, 0.33 s at 512,
+/// 0.31 s at 1 KB, 0.32 s at 2 KB, 0.47 s at 4 KB (float64: 0.72 s at 1 KB, 0.90 s at 2 KB).
+constexpr std::size_t kBlockBytes = 1024;
 constexpr int kVectorBytes = 32;
 
 /// Where an operand's lanes are: the chunk's own slots (`internal`), the caller's slot
@@ -149,37 +152,53 @@ bool compiles_inline(const Instruction& ins) {
     }
 }
 
+/// Register groups that hold one value of the chunk each (its four vectors): ymm0..3,
+/// ymm4..7 and ymm12..15; ymm8..11 are temporaries.
+constexpr int kGroups = 3;
+constexpr int kGroupBase[kGroups] = {0, 4, 12};
+
 /// The code generator: registers rbx = slot pointers, r12 = chunk slots, r13 = constants,
 /// r14 = the chunk's byte offset in the caller's arrays, r15 = its offset in the chunk slots,
-/// rbp = context. ymm0..7 hold the last instruction's result vectors (read from there by the
-/// next instruction, not from memory: a store and a load on every link of a chain of
-/// dependent instructions would make it wait for store forwarding), ymm8..11 temporaries;
-/// constants are memory operands into the pool, one vector per constant.
+/// rbp = context. The register groups keep the last three results made in a block (read
+/// from there, not from memory: a store and a load on every link of a chain of dependent
+/// instructions would make it wait for store forwarding); a result goes to memory only when
+/// its group is needed for another while it still has readers, or where the block ends or
+/// a call comes, and only if it has readers after that. Constants are memory operands into
+/// the pool, one vector per constant.
 template <class T>
 class Emitter {
 public:
     static constexpr bool kDouble = std::is_same_v<T, double>;
     static constexpr int kLanes = CompiledTape<T>::kChunkLanes;
 
-    explicit Emitter(x86::Assembler& a) : a_(a) {}
+    /// `last_read[i]`: the last instruction that reads instruction i's result (i if none).
+    Emitter(x86::Assembler& a, const std::vector<std::size_t>& last_read) : a_(a), last_read_(last_read) {}
 
     InstId id(InstId single, InstId dbl) const { return kDouble ? dbl : single; }
 
-    /// The registers no longer hold the last result (after a call, at a loop head).
-    void forget() { has_last_ = false; }
+    /// Stores the held results that instructions after `after` read, and forgets them all
+    /// (before a call, at the end of a block).
+    void flush(std::size_t after) {
+        for (int g = 0; g < kGroups; ++g) spill(g, after);
+        for (Held& h : held_) h.used = false;
+    }
 
     x86::Mem chunk_slot(uint32_t index, int v) const {
         return x86::ptr(x86::r12, x86::r15, 0, int32_t(index * kLanes * sizeof(T) + v * kVectorBytes), kVectorBytes);
     }
 
-    bool is_last(const OperandRef& ref) const {
-        return has_last_ && ref.place == last_.place && ref.index == last_.index;
+    /// The group holding `ref`'s value, or -1.
+    int group_of(const OperandRef& ref) const {
+        for (int g = 0; g < kGroups; ++g)
+            if (held_[g].used && held_[g].ref.place == ref.place && held_[g].ref.index == ref.index) return g;
+        return -1;
     }
+    static x86::Ymm group_register(int g, int v) { return x86::ymm(kGroupBase[g] + v); }
 
-    /// Operand k's vector v as an operand: a register (constant, last result) or memory.
+    /// Operand k's vector v as an operand: a register (a held result) or memory.
     Operand_ source(const OperandRef& ref, int k, int v) const {
         if (ref.place == Place::constant) return pool_entry(ref.index);
-        if (is_last(ref)) return x86::ymm(v);
+        if (const int g = group_of(ref); g >= 0) return group_register(g, v);
         if (ref.place == Place::internal) return chunk_slot(ref.index, v);
         return x86::ptr(pointer_reg(k), x86::r14, 0, v * kVectorBytes, kVectorBytes);
     }
@@ -190,11 +209,11 @@ public:
     }
 
     /// Loads what an instruction's operands need before its vectors: external arrays'
-    /// pointers.
-    void prepare(const OperandRef* refs, int count, bool store_out) {
+    /// pointers (the result's too: a result in the caller's arrays is stored at once).
+    void prepare(const OperandRef* refs, int count) {
         for (int k = 0; k < count; ++k) {
             const OperandRef& ref = refs[k];
-            if (ref.place == Place::external && (k > 0 ? !is_last(ref) : store_out))
+            if (ref.place == Place::external && (k == 0 || group_of(ref) < 0))
                 a_.mov(pointer_reg(k), x86::ptr(x86::rbx, int32_t(ref.index * sizeof(T*))));
         }
     }
@@ -217,22 +236,28 @@ public:
         else a_.vmovups(x86::ptr(pointer_reg(0), x86::r14, 0, v * kVectorBytes, kVectorBytes), value);
     }
 
-    /// One instruction inline (compiles_inline); its result is stored unless `store_out` is
-    /// false (only the next instruction reads it, from the registers).
+    /// Instruction i inline (compiles_inline), its result left in a register group.
     /// `numbers`: bit k set if operand k is never NaN.
-    void emit(const Instruction& ins, const OperandRef* refs, uint32_t r_factors, bool store_out, uint8_t numbers) {
+    void emit(std::size_t i, const Instruction& ins, const OperandRef* refs, uint32_t r_factors, uint8_t numbers) {
         using ir::Op;
         const OperandRef& out = refs[0];
         const OperandRef* in = refs + 1;
+        for (int k = 0; k < ir::op_arity(ins.op); ++k)
+            if (const int g = group_of(in[k]); g >= 0) held_[g].stamp = ++clock_;
+        const int group = result_group(i);
+        const bool store_out = out.place == Place::external;
         const auto each_vector = [&](auto body) {
-            for (int v = 0; v < kVectors<T>; ++v) {
-                const x86::Ymm result = x86::ymm(v);
-                body(v, result);
-            }
+            for (int v = 0; v < kVectors<T>; ++v) body(v, group_register(group, v));
             if (store_out)
-                for (int v = 0; v < kVectors<T>; ++v) store(out, v, x86::ymm(v));
+                for (int v = 0; v < kVectors<T>; ++v) store(out, v, group_register(group, v));
         };
         const x86::Ymm t8 = x86::ymm(8), t9 = x86::ymm(9), t10 = x86::ymm(10), t11 = x86::ymm(11);
+        // The first operand in a register, in t10 if it is not held; a constant is loaded once
+        // for the four vectors (the instruction must leave t10 alone).
+        const auto first = [&](int v) {
+            if (in[0].place == Place::constant && v > 0) return t10;
+            return in_register(in[0], 1, v, t10);
+        };
         const InstId add = id(x86::Inst::kIdVaddps, x86::Inst::kIdVaddpd);
         const InstId sub = id(x86::Inst::kIdVsubps, x86::Inst::kIdVsubpd);
         const InstId mul = id(x86::Inst::kIdVmulps, x86::Inst::kIdVmulpd);
@@ -241,14 +266,11 @@ public:
         const InstId cmp = id(x86::Inst::kIdVcmpps, x86::Inst::kIdVcmppd);
         const InstId blend = id(x86::Inst::kIdVblendvps, x86::Inst::kIdVblendvpd);
         const auto binary = [&](InstId op) {
-            prepare(refs, 3, store_out);
-            each_vector([&](int v, const x86::Ymm& r) {
-                const x86::Ymm x = in_register(in[0], 1, v, t10);
-                a_.emit(op, r, x, source(in[1], 2, v));
-            });
+            prepare(refs, 3);
+            each_vector([&](int v, const x86::Ymm& r) { a_.emit(op, r, first(v), source(in[1], 2, v)); });
         };
         const auto with_mask = [&](InstId op, uint32_t mask) {  // r = mask op a
-            prepare(refs, 2, store_out);
+            prepare(refs, 2);
             each_vector([&](int v, const x86::Ymm& r) {
                 a_.emit(op, r, in_register(in[0], 1, v, t10), pool_entry(mask));
             });
@@ -256,9 +278,9 @@ public:
         // k_min / k_max: (a < b || a != a) ? a : b; vminps gives (a < b) ? a : b, the same
         // unless a is NaN.
         const auto min_max = [&](InstId op) {
-            prepare(refs, 3, store_out);
+            prepare(refs, 3);
             each_vector([&](int v, const x86::Ymm& r) {
-                const x86::Ymm x = in_register(in[0], 1, v, t10);
+                const x86::Ymm x = first(v);
                 if (numbers & 1u) {
                     a_.emit(op, r, x, source(in[1], 2, v));
                     return;
@@ -280,18 +302,18 @@ public:
         case Op::Neg: with_mask(id(x86::Inst::kIdVxorps, x86::Inst::kIdVxorpd), kSignBit); break;
         case Op::Abs: with_mask(id(x86::Inst::kIdVandps, x86::Inst::kIdVandpd), kAbsMask); break;
         case Op::Square:
-            prepare(refs, 2, store_out);
+            prepare(refs, 2);
             each_vector([&](int v, const x86::Ymm& r) {
                 const x86::Ymm x = in_register(in[0], 1, v, t10);
                 a_.emit(mul, r, x, x);
             });
             break;
         case Op::Sqrt:
-            prepare(refs, 2, store_out);
+            prepare(refs, 2);
             each_vector([&](int v, const x86::Ymm& r) { a_.emit(sqrt, r, source(in[0], 1, v)); });
             break;
         case Op::Sign:   // a > 0 ? 1 : a < 0 ? -1 : a
-            prepare(refs, 2, store_out);
+            prepare(refs, 2);
             each_vector([&](int v, const x86::Ymm& r) {
                 const x86::Ymm x = in_register(in[0], 1, v, t10);
                 a_.emit(cmp, t8, x, pool_entry(kZero), Imm(0x1E));   // x > 0, ordered
@@ -301,7 +323,7 @@ public:
             });
             break;
         case Op::Select:   // c > 0 ? a : (c != c ? c : b), operands c, a, b
-            prepare(refs, 4, store_out);
+            prepare(refs, 4);
             each_vector([&](int v, const x86::Ymm& r) {
                 const x86::Ymm c = in_register(in[0], 1, v, t10);
                 const x86::Ymm a = in_register(in[1], 2, v, t11);
@@ -325,7 +347,7 @@ public:
                 break;
             }
             // R0: (a + b) ∓ sqrt(a*a + b*b); Rα: ((a + b) ∓ sqrt((a*a + b*b) - 2α*(a*b))) / (1 + α)
-            prepare(refs, 3, store_out);
+            prepare(refs, 3);
             each_vector([&](int v, const x86::Ymm& r) {
                 const x86::Ymm a = in_register(in[0], 1, v, t10);
                 const x86::Ymm b = in_register(in[1], 2, v, t11);
@@ -346,15 +368,16 @@ public:
         }
         default: break;
         }
-        has_last_ = true;
-        last_ = out;
+        // The slot's earlier value, if held, is overwritten: no later instruction reads it.
+        for (int g = 0; g < kGroups; ++g)
+            if (g != group && group_of(out) == g) held_[g].used = false;
+        held_[group] = Held{true, !store_out, out, i, ++clock_};
     }
 
     /// A float32 operation SLEEF computes: one call per vector, operands in ymm0 (and ymm1),
     /// the result in ymm0, stored at once (the call may change every other register).
     void call_vector_function(const OperandRef* refs, int arity, void* function) {
         const OperandRef* in = refs + 1;
-        forget();   // the operands were stored: this is no inline instruction (compiles_inline)
         for (int v = 0; v < kVectors<T>; ++v) {
             for (int k = arity - 1; k >= 0; --k) {
                 const x86::Ymm dst = x86::ymm(k);
@@ -371,7 +394,6 @@ public:
                 a_.mov(pointer_reg(0), x86::ptr(x86::rbx, int32_t(refs[0].index * sizeof(T*))));
             store(refs[0], v, x86::ymm(0));
         }
-        forget();
     }
 
     /// An instruction left to the lane kernel: a call with the registers it may clobber
@@ -384,13 +406,44 @@ public:
         a_.mov(x86::rcx, x86::r15);
         a_.mov(x86::rax, Imm(reinterpret_cast<uint64_t>(&run_site<T>)));
         a_.call(x86::rax);
-        forget();
     }
 
 private:
+    struct Held {
+        bool used = false;
+        bool dirty = false;     ///< not stored yet
+        OperandRef ref;
+        std::size_t writer = 0;  ///< the instruction that made it
+        std::size_t stamp = 0;   ///< when it was last made or read
+    };
+
+    /// Stores group g's result if an instruction after `after` reads it and it is not stored.
+    void spill(int g, std::size_t after) {
+        Held& h = held_[g];
+        if (!h.used || !h.dirty || last_read_[h.writer] <= after) return;
+        for (int v = 0; v < kVectors<T>; ++v) a_.vmovups(chunk_slot(h.ref.index, v), group_register(g, v));
+        h.dirty = false;
+    }
+
+    /// The group for instruction i's result: one whose value nothing after i reads (an operand
+    /// dying here: each vector is read before it is overwritten), else a free one, else the
+    /// least recently used, stored first if still needed.
+    int result_group(std::size_t i) {
+        for (int g = 0; g < kGroups; ++g)
+            if (held_[g].used && last_read_[held_[g].writer] <= i) return g;
+        for (int g = 0; g < kGroups; ++g)
+            if (!held_[g].used) return g;
+        int oldest = 0;
+        for (int g = 1; g < kGroups; ++g)
+            if (held_[g].stamp < held_[oldest].stamp) oldest = g;
+        spill(oldest, i);
+        return oldest;
+    }
+
     x86::Assembler& a_;
-    bool has_last_ = false;
-    OperandRef last_;
+    const std::vector<std::size_t>& last_read_;
+    Held held_[kGroups];
+    std::size_t clock_ = 0;
 };
 
 }  // namespace
@@ -471,7 +524,6 @@ std::unique_ptr<CompiledTape<T>> CompiledTape<T>::compile(const Tape& tape, std:
     CodeHolder code;
     code.init(runtime().environment());
     x86::Assembler a(&code);
-    Emitter<T> e(a);
     // Callee-saved registers (System V): six pushes and 8 bytes keep calls 16-byte aligned.
     const x86::Gp saved[] = {x86::rbp, x86::rbx, x86::r12, x86::r13, x86::r14, x86::r15};
     for (const x86::Gp& r : saved) a.push(r);
@@ -487,7 +539,6 @@ std::unique_ptr<CompiledTape<T>> CompiledTape<T>::compile(const Tape& tape, std:
         a.xor_(x86::r15d, x86::r15d);
         next = a.newLabel();
         a.bind(next);
-        e.forget();
     };
     const auto end_block = [&](const Label& next) {
         a.add(x86::r14, kChunkLanes * int(sizeof(T)));
@@ -495,38 +546,39 @@ std::unique_ptr<CompiledTape<T>> CompiledTape<T>::compile(const Tape& tape, std:
         a.cmp(x86::r14, x86::ptr(x86::rbp, offsetof(Context<T>, end)));
         a.jb(next);
     };
-    // A result needs no store when only the next instruction reads it, inline (from the
-    // registers): the writer of each internal slot value, and whether anything else reads it.
-    std::vector<char> store_out(tape.code.size(), 0);
+    // The last reader of each instruction's result: a result held in registers is stored
+    // only if read after the point where its registers are needed or forgotten.
+    std::vector<std::size_t> last_read(tape.code.size());
     {
         std::vector<std::size_t> writer(tape.slot_count, SIZE_MAX);
         for (std::size_t i = 0; i < tape.code.size(); ++i) {
             const Instruction& ins = tape.code[i];
             for (int k = 0; k < ir::op_arity(ins.op); ++k) {
                 if (ins.constant_operands & (1u << k)) continue;
-                const std::size_t w = writer[ins.in[k]];
-                if (w != SIZE_MAX && (w + 1 != i || !compiles_inline(ins))) store_out[w] = 1;
+                if (const std::size_t w = writer[ins.in[k]]; w != SIZE_MAX) last_read[w] = i;
             }
-            if (refs[i][0].place == Place::external || !compiles_inline(ins)) store_out[i] = 1;
+            last_read[i] = i;
             writer[ins.out] = i;
         }
     }
+    Emitter<T> e(a, last_read);
     // Sites are addressed by the code, so their vector must not move.
     c.sites.reserve(tape.code.size());
     Label block;
     begin_block(block);
     std::size_t block_start = a.offset();
     for (std::size_t i = 0; i < tape.code.size(); ++i) {
-        // A block ends only where the registers hold nothing the next instruction needs.
-        if (a.offset() - block_start >= kBlockBytes && (i == 0 || store_out[i - 1])) {
+        if (a.offset() - block_start >= kBlockBytes) {
+            e.flush(i - 1);
             end_block(block);
             begin_block(block);
             block_start = a.offset();
         }
         if (compiles_inline(tape.code[i])) {
-            e.emit(tape.code[i], refs[i].data(), r_factors[i], store_out[i] != 0, numbers.empty() ? 0 : numbers[i]);
+            e.emit(i, tape.code[i], refs[i].data(), r_factors[i], numbers.empty() ? 0 : numbers[i]);
             continue;
         }
+        e.flush(i - 1);   // the call reads its operands from memory and may change every register
         if constexpr (std::is_same_v<T, float>) {
             if (void* function = float_vector_function(tape.code[i].op)) {
                 e.call_vector_function(refs[i].data(), ir::op_arity(tape.code[i].op), function);
@@ -536,6 +588,7 @@ std::unique_ptr<CompiledTape<T>> CompiledTape<T>::compile(const Tape& tape, std:
         c.sites.push_back(Site{uint32_t(i), {refs[i][0], refs[i][1], refs[i][2], refs[i][3]}});
         e.call_site(&c.sites.back());
     }
+    e.flush(tape.code.size());
     end_block(block);
     a.vzeroupper();
     a.add(x86::rsp, 8);

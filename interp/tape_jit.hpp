@@ -4,14 +4,15 @@
 // Why: the lane kernel (lane_kernel.hpp) runs one instruction over a whole tile before the
 // next, so every instruction streams its operands' 1024-lane arrays through L2, and shorter
 // tiles pay its per-instruction dispatch more often (1024 lanes were the fastest). Compiled
-// code has no dispatch: a tile is cut into chunks of four vectors, and each block of two or
-// three instructions runs over all the chunks before the next block. Short blocks keep the
+// code has no dispatch: a tile is cut into chunks of four vectors, and each block of about a
+// dozen instructions runs over all the chunks before the next block. Short blocks keep the
 // code in the instruction cache (which, not the data, set the speed: README "Compiled
-// tapes"), and an instruction's result stays in registers for the next one.
+// tapes"), and the block's last three results stay in registers for the instructions after.
 //
 // The values are the lane kernel's, bit for bit (a NaN stays a NaN; which NaN, its sign and
 // payload, is the compiler's choice as between any two builds): arithmetic, square roots, min, max, select,
-// sign and the R-operations are emitted as the same IEEE operations in the same order
+// sign and the R-operations are emitted as the same IEEE operations in the same order (MIN,
+// MAX and SELECT without their NaN case where that operand is never NaN: number_operands.hpp)
 // (-ffp-contract=off keeps the C++ side unfused); float32 transcendentals call the SLEEF
 // functions the lane kernel calls; every other operation calls the lane kernel itself for the
 // chunk. Lanes are independent, so running the tape chunk by chunk instead of

@@ -54,6 +54,9 @@ std::mutex& runtime_mutex() {
     return m;
 }
 
+/// In CompiledTape::Compiled::operand_constants: the pool entry holds the constant negated.
+constexpr uint8_t kNegated = 0x80;
+
 /// Fixed pool entries, before the operands' constants.
 enum Fixed : uint32_t { kSignBit, kAbsMask, kZero, kOne, kMinusOne, kFixedCount };
 
@@ -269,6 +272,19 @@ public:
             prepare(refs, 3);
             each_vector([&](int v, const x86::Ymm& r) { a_.emit(op, r, first(v), source(in[1], 2, v)); });
         };
+        // a + b and a × b are b + a and b × a (which NaN of two comes out aside): the operand
+        // held in registers goes first, the other is read from memory by the instruction.
+        const auto commutative = [&](InstId op) {
+            prepare(refs, 3);
+            const bool swap = group_of(in[0]) < 0 && (group_of(in[1]) >= 0 ||
+                                                      (in[1].place == Place::constant && in[0].place != Place::constant));
+            const OperandRef& x = swap ? in[1] : in[0];
+            const OperandRef& y = swap ? in[0] : in[1];
+            each_vector([&](int v, const x86::Ymm& r) {
+                const x86::Ymm held = x.place == Place::constant && v > 0 ? t10 : in_register(x, swap ? 2 : 1, v, t10);
+                a_.emit(op, r, held, source(y, swap ? 1 : 2, v));
+            });
+        };
         const auto with_mask = [&](InstId op, uint32_t mask) {  // r = mask op a
             prepare(refs, 2);
             each_vector([&](int v, const x86::Ymm& r) {
@@ -293,9 +309,9 @@ public:
         const InstId min = id(x86::Inst::kIdVminps, x86::Inst::kIdVminpd);
         const InstId max = id(x86::Inst::kIdVmaxps, x86::Inst::kIdVmaxpd);
         switch (ins.op) {
-        case Op::Add: binary(add); break;
+        case Op::Add: commutative(add); break;
         case Op::Sub: binary(sub); break;
-        case Op::Mul: binary(mul); break;
+        case Op::Mul: commutative(mul); break;
         case Op::Div: binary(div); break;
         case Op::Min: min_max(min); break;
         case Op::Max: min_max(max); break;
@@ -506,7 +522,10 @@ std::unique_ptr<CompiledTape<T>> CompiledTape<T>::compile(const Tape& tape, std:
         for (int k = 0; k < ir::kMaxArity; ++k) {
             if (ins.constant_operands & (1u << k)) {
                 refs[i][k + 1] = {Place::constant, uint32_t(kFixedCount + c.operand_constants.size())};
-                c.operand_constants.emplace_back(uint32_t(i), uint8_t(k));
+                // a − c is compiled as a + (−c), exactly the same (IEEE subtraction is the
+                // addition of the negation), so that a can be read from memory by the addition.
+                const bool negated = ins.op == ir::Op::Sub && k == 1;
+                c.operand_constants.emplace_back(uint32_t(i), uint8_t(k | (negated ? kNegated : 0)));
             } else {
                 refs[i][k + 1] = place_of(ins.in[k]);
             }
@@ -575,7 +594,9 @@ std::unique_ptr<CompiledTape<T>> CompiledTape<T>::compile(const Tape& tape, std:
             block_start = a.offset();
         }
         if (compiles_inline(tape.code[i])) {
-            e.emit(i, tape.code[i], refs[i].data(), r_factors[i], numbers.empty() ? 0 : numbers[i]);
+            Instruction emitted = tape.code[i];
+            if (emitted.op == ir::Op::Sub && (emitted.constant_operands & 2u)) emitted.op = ir::Op::Add;   // kNegated
+            e.emit(i, emitted, refs[i].data(), r_factors[i], numbers.empty() ? 0 : numbers[i]);
             continue;
         }
         e.flush(i - 1);   // the call reads its operands from memory and may change every register
@@ -621,7 +642,10 @@ void CompiledTape<T>::run(const Instruction* code, std::size_t count, T* const* 
         T* pool = scratch.constants.data();
         const auto put = [&pool](T value) { pool = std::fill_n(pool, kPerVector, value); };
         for (std::size_t k = 0; k < kFixedCount; ++k) put(c.fixed_constants[k]);
-        for (auto [instruction, operand] : c.operand_constants) put(T(code[instruction].constant[operand]));
+        for (auto [instruction, operand] : c.operand_constants) {
+            const T value = T(code[instruction].constant[operand & ~kNegated]);
+            put(operand & kNegated ? -value : value);
+        }
         for (std::size_t k = kFixedCount; k < c.fixed_constants.size(); ++k) put(c.fixed_constants[k]);
         scratch.constants_of = code;
     }

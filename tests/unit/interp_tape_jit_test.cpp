@@ -182,6 +182,18 @@ TEST_CASE("compiled tapes read constants changed between runs, as the per-row va
     CHECK(!same_outputs(first, second));
 }
 
+namespace {
+
+/// The field of `model` on `grid`, compiled (whatever the size) and through the lane loops.
+std::pair<Field, Field> compiled_and_lanes(const Model& model, const Grid& grid, Precision precision) {
+    const VoxelEngine compiled({.precision = precision, .compile_above_lane_operations = 0});
+    const VoxelEngine lanes({.precision = precision, .compile = false});
+    return {compiled.evaluate_grid(model.graph, model.root, grid, {}, {}),
+            lanes.evaluate_grid(model.graph, model.root, grid, {}, {})};
+}
+
+}  // namespace
+
 TEST_CASE("the voxel engine compiled and through its lane loops: the same field, bit for bit") {
     if (!tape_jit_available()) return;
     // Compiled whatever the size: hoisted rows (per-row constants), a tail in every tile (1000
@@ -205,10 +217,7 @@ TEST_CASE("the voxel engine compiled and through its lane loops: the same field,
     for (const auto& [model, grid] : {std::pair{&*c.model, plane}, std::pair{&*c3.model, cube}}) {
         for (Precision precision : {Precision::Float64, Precision::Float32}) {
             CAPTURE(grid.dims);
-            const VoxelEngine compiled({.precision = precision, .compile_above_lane_operations = 0});
-            const VoxelEngine lanes({.precision = precision, .compile = false});
-            const Field a = compiled.evaluate_grid(model->graph, model->root, grid, {}, {});
-            const Field b = lanes.evaluate_grid(model->graph, model->root, grid, {}, {});
+            const auto [a, b] = compiled_and_lanes(*model, grid, precision);
             REQUIRE(a.values.size() == b.values.size());
             CHECK(same_values(a.values, b.values));
         }
@@ -229,10 +238,7 @@ TEST_CASE("compiled MIN, MAX and SELECT keep a NaN first operand where it can be
     plane.y = {-1.2, 1.3, 200};
     for (Precision precision : {Precision::Float64, Precision::Float32}) {
         CAPTURE(int(precision));
-        const VoxelEngine compiled({.precision = precision, .compile_above_lane_operations = 0});
-        const VoxelEngine lanes({.precision = precision, .compile = false});
-        const Field a = compiled.evaluate_grid(c.model->graph, c.model->root, plane, {}, {});
-        const Field b = lanes.evaluate_grid(c.model->graph, c.model->root, plane, {}, {});
+        const auto [a, b] = compiled_and_lanes(*c.model, plane, precision);
         CHECK(same_values(a.values, b.values));
         const auto nans = std::count_if(a.values.begin(), a.values.end(), [](double v) { return std::isnan(v); });
         CHECK(nans > 0);                              // the NaN cases are exercised

@@ -1283,6 +1283,7 @@ private:
                 if (parent.count(m)) parent[root(n)] = root(m);
         std::map<int, Wedge> trees;
         for (int n : nodes) trees[root(n)].nodes.push_back(n);
+        std::vector<Wedge> planned;
         for (auto& [r, wedge] : trees) {
             for (int a = 0; a < 3; ++a) wedge.span[a] = {cells_[a], -1};
             auto widen = [&](uint64_t id) {
@@ -1302,10 +1303,14 @@ private:
                         }
                 }
             }
-            // Only trees that reach a tip for now: gaps in the middle of an edge are left as
-            // they were (a wedge there met a neighbour's edge on Chainik's flat faces).
-            const bool has_tip = std::any_of(wedge.nodes.begin(), wedge.nodes.end(), [](int n) { return n < 0; });
-            if (wedge.seeds.empty() || !has_tip) continue;
+            if (!wedge.seeds.empty()) planned.push_back(std::move(wedge));
+        }
+        // Trees that reach a tip take their cells first (a tip has no other way onto the mesh);
+        // then the gaps in the middle of an edge.
+        std::stable_partition(planned.begin(), planned.end(), [](const Wedge& wedge) {
+            return std::any_of(wedge.nodes.begin(), wedge.nodes.end(), [](int n) { return n < 0; });
+        });
+        for (Wedge& wedge : planned) {
             wedges_.push_back(std::move(wedge));
             group_wedge(wedges_.size() - 1);
         }
@@ -1436,6 +1441,12 @@ private:
             }
         }
         if (leaves.size() < 2 || edges.size() + 1 != inner.size() + leaves.size()) return false;  // not a tree
+        // Another edge's link in a joined cell would be lost inside the joined patch (only the
+        // tree cuts it): its cells are left to themselves.
+        for (uint64_t id : wedge.cells)
+            if (const auto it = links_.find(id); it != links_.end())
+                for (const auto& [a, b] : it->second)
+                    if (crossings_[a].alive && crossings_[b].alive && !edges.count({a, b})) return false;
         for (int x : inner) {  // inside the block, and on no cell with triangles outside the group
             if (!box.contains(node_position(x), 1e-12 * h)) return false;
             for (uint64_t id : cells_around(node_position(x)))
@@ -1466,8 +1477,7 @@ private:
         };
         for (const auto& [a, b] : edges)
             if (!no_shared_outside_cell(node_vertex(a), node_vertex(b))) return false;
-        std::vector<Tri> triangles;
-        std::vector<std::size_t> first_of;
+        std::vector<std::vector<uint32_t>> polygons;
         for (std::size_t e = 0; e < ends.size(); ++e) {
             const auto [from, start] = ends[e];
             const auto [to, target] = ends[(e + 1) % ends.size()];
@@ -1489,10 +1499,11 @@ private:
             std::vector<uint32_t> back;
             for (int a = came_from[start]; a != target; a = came_from[a]) back.push_back(node_vertex(a));
             poly.insert(poly.end(), back.rbegin(), back.rend());
-            first_of.push_back(triangles.size());
-            if (!triangulate(poly, box, triangles, kMaxWedgePolygon, no_shared_outside_cell)) return false;
+            polygons.push_back(std::move(poly));
         }
-        first_of.push_back(triangles.size());
+        std::vector<Tri> triangles;
+        std::vector<std::size_t> first_of;
+        if (!triangulate_sides(polygons, box, kMaxWedgePolygon, no_shared_outside_cell, triangles, first_of)) return false;
         if (polygons_cross(triangles, first_of, h)) return false;
         chain_edges_ += edges.size();
         out = std::move(triangles);
@@ -1514,6 +1525,34 @@ private:
                             return true;
                 }
         return false;
+    }
+
+    /// Triangulates the polygons one after another, each new edge refused where an earlier
+    /// polygon already has it: along a nearly straight chain the two sides' least-area fans can
+    /// pick the same chord, and two folds on one edge make it non-manifold (Chainik's flat faces).
+    /// `allowed` (optional) refuses more edges. first_of: where each polygon's triangles start.
+    bool triangulate_sides(const std::vector<std::vector<uint32_t>>& polygons, const Cell& cell, int max_vertices,
+                           const std::function<bool(uint32_t, uint32_t)>& allowed, std::vector<Tri>& triangles,
+                           std::vector<std::size_t>& first_of) const {
+        std::set<std::pair<uint32_t, uint32_t>> used;
+        auto fresh = [&](uint32_t u, uint32_t v) {
+            return !used.count({std::min(u, v), std::max(u, v)}) && (!allowed || allowed(u, v));
+        };
+        for (const auto& poly : polygons) {
+            first_of.push_back(triangles.size());
+            if (!triangulate(poly, cell, triangles, max_vertices, fresh)) return false;
+            for (std::size_t t = first_of.back(); t < triangles.size(); ++t)
+                for (int e = 0; e < 3; ++e) {
+                    const uint32_t u = triangles[t][e], v = triangles[t][(e + 1) % 3];
+                    used.insert({std::min(u, v), std::max(u, v)});
+                }
+        }
+        first_of.push_back(triangles.size());
+        std::set<std::pair<uint32_t, uint32_t>> directed;  // each edge at most once each way
+        for (const Tri& t : triangles)
+            for (int e = 0; e < 3; ++e)
+                if (!directed.insert({t[e], t[(e + 1) % 3]}).second) return false;
+        return true;
     }
 
     /// Cell `id`'s patch with its crossings put on its boundary and cut along its feature
@@ -1675,11 +1714,7 @@ private:
                 if (!taken[k]) rest.push_back(ring[k]);
             polygons.push_back(std::move(rest));
             std::vector<std::size_t> first_of;  // where each polygon's triangles start
-            for (const auto& poly : polygons) {
-                first_of.push_back(triangles.size());
-                if (!triangulate(poly, cell, triangles)) return false;
-            }
-            first_of.push_back(triangles.size());
+            if (!triangulate_sides(polygons, cell, 64, {}, triangles, first_of)) return false;
             // Triangles of different polygons (the two sides of an edge) must not cross.
             if (polygons_cross(triangles, first_of, h)) return false;
         }

@@ -1441,19 +1441,52 @@ private:
             }
         }
         if (leaves.size() < 2 || edges.size() + 1 != inner.size() + leaves.size()) return false;  // not a tree
-        // Another edge's link in a joined cell would be lost inside the joined patch (only the
-        // tree cuts it): its cells are left to themselves.
+        // The other links in the joined cells (the edge going on from a leaf, another edge
+        // passing) cut the joined patch too, as in one cell: with the tree they must make pieces
+        // that are trees, each reaching the ring at two points or more, their other points on
+        // faces between joined cells; else a link would be lost in the joined patch, and the
+        // cells are left to themselves.
         for (uint64_t id : wedge.cells)
             if (const auto it = links_.find(id); it != links_.end())
-                for (const auto& [a, b] : it->second)
-                    if (crossings_[a].alive && crossings_[b].alive && !edges.count({a, b})) return false;
+                for (const auto& [a, b] : it->second) {
+                    if (!crossings_[a].alive || !crossings_[b].alive || edges.count({a, b})) continue;
+                    edges.insert({a, b});
+                    for (int x : {a, b}) {
+                        if (inner.count(x) || leaves.count(x)) continue;
+                        if (on_ring.count(x)) leaves.insert(x);
+                        else if (!crossings_[x].on_mesh_vertex && in_group(cells_of_face(crossings_[x].face)[0]) &&
+                                 in_group(cells_of_face(crossings_[x].face)[1]))
+                            inner.insert(x);
+                        else
+                            return false;
+                    }
+                }
+        std::map<int, int> piece;  // each point → its piece
+        std::map<int, std::vector<int>> adjacent;
+        for (const auto& [a, b] : edges) adjacent[a].push_back(b), adjacent[b].push_back(a);
+        {
+            int pieces = 0;
+            for (const auto& [start, next] : adjacent) {
+                if (piece.count(start)) continue;
+                std::size_t points = 0, ends_on_ring = 0, degrees = 0;
+                std::vector<int> todo{start};
+                piece[start] = pieces;
+                while (!todo.empty()) {
+                    const int a = todo.back();
+                    todo.pop_back();
+                    ++points, ends_on_ring += leaves.count(a), degrees += adjacent[a].size();
+                    for (int b : adjacent[a])
+                        if (piece.emplace(b, pieces).second) todo.push_back(b);
+                }
+                if (degrees != 2 * (points - 1) || ends_on_ring < 2) return false;  // not a tree reaching the ring twice
+                ++pieces;
+            }
+        }
         for (int x : inner) {  // inside the block, and on no cell with triangles outside the group
             if (!box.contains(node_position(x), 1e-12 * h)) return false;
             for (uint64_t id : cells_around(node_position(x)))
                 if (!in_group(id) && (!has_patch_ || has_patch_(id))) return false;
         }
-        std::map<int, std::vector<int>> adjacent;
-        for (const auto& [a, b] : edges) adjacent[a].push_back(b), adjacent[b].push_back(a);
         std::vector<std::pair<std::size_t, int>> ends;  // leaves by their place on the ring
         for (int x : leaves) {
             const auto it = ring_index.find(crossings_[x].vertex);
@@ -1477,28 +1510,51 @@ private:
         };
         for (const auto& [a, b] : edges)
             if (!no_shared_outside_cell(node_vertex(a), node_vertex(b))) return false;
+        // The faces: from a leaf along the ring to the next leaf, then back through that leaf's
+        // piece (the tree's path or the chord) to the leaf of the piece before it on the ring, and
+        // on along the ring from there, until the face closes.
+        std::map<int, int> previous;  // a leaf → the one before it on the ring among its piece's
+        std::map<int, std::size_t> end_of;
+        {
+            std::map<int, std::vector<int>> by_piece;
+            for (std::size_t e = 0; e < ends.size(); ++e) by_piece[piece[ends[e].second]].push_back(ends[e].second), end_of[ends[e].second] = e;
+            for (const auto& [p, list] : by_piece)
+                for (std::size_t i = 0; i < list.size(); ++i) previous[list[i]] = list[(i + list.size() - 1) % list.size()];
+        }
         std::vector<std::vector<uint32_t>> polygons;
-        for (std::size_t e = 0; e < ends.size(); ++e) {
-            const auto [from, start] = ends[e];
-            const auto [to, target] = ends[(e + 1) % ends.size()];
+        std::vector<char> arc_done(ends.size(), 0);
+        for (std::size_t first = 0; first < ends.size(); ++first) {
+            if (arc_done[first]) continue;
             std::vector<uint32_t> poly;
-            for (std::size_t i = from;; i = (i + 1) % m) {
-                poly.push_back(ring[i]);
-                if (i == to) break;
+            std::size_t e = first;
+            while (!arc_done[e]) {
+                arc_done[e] = 1;
+                const auto [from, start] = ends[e];
+                const auto [to, target] = ends[(e + 1) % ends.size()];
+                for (std::size_t i = from;; i = (i + 1) % m) {
+                    poly.push_back(ring[i]);
+                    if (i == to) break;
+                }
+                // The piece's path from `target` back to `goal`, through inner nodes only.
+                const int goal = previous[target];
+                std::map<int, int> came_from{{target, target}};
+                std::vector<int> frontier{target};
+                while (!frontier.empty() && !came_from.count(goal)) {
+                    const int a = frontier.back();
+                    frontier.pop_back();
+                    for (int b : adjacent[a])
+                        if (!came_from.count(b) && (b == goal || inner.count(b))) came_from[b] = a, frontier.push_back(b);
+                }
+                if (!came_from.count(goal)) return false;
+                std::vector<uint32_t> back;
+                for (int a = came_from[goal]; a != target; a = came_from[a]) back.push_back(node_vertex(a));
+                poly.insert(poly.end(), back.rbegin(), back.rend());
+                e = end_of[goal];
             }
-            // The tree's path from `target` back to `start`, through inner nodes only.
-            std::map<int, int> came_from{{target, target}};
-            std::vector<int> frontier{target};
-            while (!frontier.empty() && !came_from.count(start)) {
-                const int a = frontier.back();
-                frontier.pop_back();
-                for (int b : adjacent[a])
-                    if (!came_from.count(b) && (b == start || inner.count(b))) came_from[b] = a, frontier.push_back(b);
-            }
-            if (!came_from.count(start)) return false;
-            std::vector<uint32_t> back;
-            for (int a = came_from[start]; a != target; a = came_from[a]) back.push_back(node_vertex(a));
-            poly.insert(poly.end(), back.rbegin(), back.rend());
+            if (e != first) return false;  // the pieces cross each other
+            std::vector<uint32_t> sorted = poly;
+            std::sort(sorted.begin(), sorted.end());
+            if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) return false;
             polygons.push_back(std::move(poly));
         }
         std::vector<Tri> triangles;

@@ -555,71 +555,79 @@ public:
         std::sort(queue.begin(), queue.end());
         queue.erase(std::unique(queue.begin(), queue.end()), queue.end());
         std::set<uint64_t> pending(queue.begin(), queue.end());
-        while (!pending.empty()) {
-            const uint64_t id = *pending.begin();
-            pending.erase(pending.begin());
-            std::vector<Tri> triangles;
-            if (const auto wedge = wedge_of_.find(id); wedge != wedge_of_.end()) {
-                // Features in cells with no triangles: the patches around them redone together.
-                const std::size_t index = wedge->second;
-                const std::vector<uint64_t> cells = wedges_[index].cells;
-                std::vector<uint32_t> joined;
-                for (uint64_t g : cells) {
-                    const auto patch = patch_of(g);
-                    if (patch) joined.insert(joined.end(), patch->begin(), patch->end());
-                    results_.erase(g);
-                    pending.erase(g);
+        for (int pass = 0; pass < 2; ++pass) {
+            if (pass == 1)  // the gaps in the middle of edges, once the tips have their cells
+                for (Wedge& wedge : mid_edge_wedges_) {
+                    wedges_.push_back(std::move(wedge));
+                    if (group_wedge(wedges_.size() - 1))
+                        for (uint64_t g : wedges_.back().cells) pending.insert(g);
                 }
-                if (build_wedge(wedges_[index], joined, triangles)) {
-                    results_[cells.front()] = {std::move(joined), std::move(triangles)};
+            while (!pending.empty()) {
+                const uint64_t id = *pending.begin();
+                pending.erase(pending.begin());
+                std::vector<Tri> triangles;
+                if (const auto wedge = wedge_of_.find(id); wedge != wedge_of_.end()) {
+                    // Features in cells with no triangles: the patches around them redone together.
+                    const std::size_t index = wedge->second;
+                    const std::vector<uint64_t> cells = wedges_[index].cells;
+                    std::vector<uint32_t> joined;
+                    for (uint64_t g : cells) {
+                        const auto patch = patch_of(g);
+                        if (patch) joined.insert(joined.end(), patch->begin(), patch->end());
+                        results_.erase(g);
+                        pending.erase(g);
+                    }
+                    if (build_wedge(wedges_[index], joined, triangles)) {
+                        results_[cells.front()] = {std::move(joined), std::move(triangles)};
+                        continue;
+                    }
+                    for (uint64_t g : cells) wedge_of_.erase(g), pending.insert(g);  // each on its own
+                    if (group_wedge(index))  // or a larger block
+                        for (uint64_t g : wedges_[index].cells) pending.insert(g);
                     continue;
                 }
-                for (uint64_t g : cells) wedge_of_.erase(g), pending.insert(g);  // each on its own
-                if (group_wedge(index))  // or a larger block
-                    for (uint64_t g : wedges_[index].cells) pending.insert(g);
-                continue;
-            }
-            if (const auto group = groups_.find(id); group != groups_.end()) {
-                // A corner the cells around it share: one fan over their joined patches.
-                const std::vector<uint64_t> cells = group->second;
-                std::vector<uint32_t> joined;
-                bool all = true;
-                for (uint64_t g : cells) {
-                    const auto patch = patch_of(g);
-                    if (!patch) all = false;
-                    else joined.insert(joined.end(), patch->begin(), patch->end());
-                }
-                for (uint64_t g : cells) results_.erase(g);
-                if (all && build_cell(cells.front(), &joined, triangles, &cells)) {
-                    results_[cells.front()] = {std::move(joined), std::move(triangles)};
+                if (const auto group = groups_.find(id); group != groups_.end()) {
+                    // A corner the cells around it share: one fan over their joined patches.
+                    const std::vector<uint64_t> cells = group->second;
+                    std::vector<uint32_t> joined;
+                    bool all = true;
+                    for (uint64_t g : cells) {
+                        const auto patch = patch_of(g);
+                        if (!patch) all = false;
+                        else joined.insert(joined.end(), patch->begin(), patch->end());
+                    }
+                    for (uint64_t g : cells) results_.erase(g);
+                    if (all && build_cell(cells.front(), &joined, triangles, &cells)) {
+                        results_[cells.front()] = {std::move(joined), std::move(triangles)};
+                        continue;
+                    }
+                    for (uint64_t g : cells) {  // each on its own, without the corner
+                        groups_.erase(g);
+                        apex_.erase(g);
+                        pending.insert(g);
+                    }
                     continue;
                 }
-                for (uint64_t g : cells) {  // each on its own, without the corner
-                    groups_.erase(g);
-                    apex_.erase(g);
-                    pending.insert(g);
+                const std::optional<std::vector<uint32_t>> patch = patch_of(id);
+                if (build_cell(id, patch ? &*patch : nullptr, triangles)) {
+                    if (patch && !triangles.empty()) results_[id] = {*patch, std::move(triangles)};
+                    else results_.erase(id);
+                    continue;
                 }
-                continue;
-            }
-            const std::optional<std::vector<uint32_t>> patch = patch_of(id);
-            if (build_cell(id, patch ? &*patch : nullptr, triangles)) {
-                if (patch && !triangles.empty()) results_[id] = {*patch, std::move(triangles)};
-                else results_.erase(id);
-                continue;
-            }
-            results_.erase(id);
-            if (apex_.erase(id)) {  // without its corner, the edges may still pass
-                pending.insert(id);
-                continue;
-            }
-            if (add_edge_apex(id)) {  // a fan from a point of the edge keeps the crossings
-                pending.insert(id);
-                continue;
-            }
-            for (int c : crossings_in(id)) {
-                crossings_[c].alive = false;
-                for (uint64_t other : cells_sharing(crossings_[c]))
-                    if (other != id) pending.insert(other);
+                results_.erase(id);
+                if (apex_.erase(id)) {  // without its corner, the edges may still pass
+                    pending.insert(id);
+                    continue;
+                }
+                if (add_edge_apex(id)) {  // a fan from a point of the edge keeps the crossings
+                    pending.insert(id);
+                    continue;
+                }
+                for (int c : crossings_in(id)) {
+                    crossings_[c].alive = false;
+                    for (uint64_t other : cells_sharing(crossings_[c]))
+                        if (other != id) pending.insert(other);
+                }
             }
         }
         std::set<uint32_t> used;
@@ -1305,12 +1313,13 @@ private:
             }
             if (!wedge.seeds.empty()) planned.push_back(std::move(wedge));
         }
-        // Trees that reach a tip take their cells first (a tip has no other way onto the mesh);
-        // then the gaps in the middle of an edge.
-        std::stable_partition(planned.begin(), planned.end(), [](const Wedge& wedge) {
-            return std::any_of(wedge.nodes.begin(), wedge.nodes.end(), [](int n) { return n < 0; });
-        });
+        // Trees that reach a tip take their cells first, larger blocks included (a tip has no
+        // other way onto the mesh); the gaps in the middle of an edge wait until they are built.
         for (Wedge& wedge : planned) {
+            if (std::none_of(wedge.nodes.begin(), wedge.nodes.end(), [](int n) { return n < 0; })) {
+                mid_edge_wedges_.push_back(std::move(wedge));
+                continue;
+            }
             wedges_.push_back(std::move(wedge));
             group_wedge(wedges_.size() - 1);
         }
@@ -1805,6 +1814,7 @@ private:
     std::unordered_map<int, std::vector<int>> crossings_of_tip_;
     std::unordered_map<int, int> tip_at_;  ///< a crossing where a tip is → the tip
     std::vector<Wedge> wedges_;
+    std::vector<Wedge> mid_edge_wedges_;  ///< trees without a tip, grouped after the others are built
     std::map<uint64_t, std::size_t> wedge_of_;            ///< a wedge's cells → the wedge
     std::vector<uint64_t> corner_cells_;
     std::map<uint64_t, uint32_t> apex_;

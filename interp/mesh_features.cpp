@@ -555,71 +555,79 @@ public:
         std::sort(queue.begin(), queue.end());
         queue.erase(std::unique(queue.begin(), queue.end()), queue.end());
         std::set<uint64_t> pending(queue.begin(), queue.end());
-        while (!pending.empty()) {
-            const uint64_t id = *pending.begin();
-            pending.erase(pending.begin());
-            std::vector<Tri> triangles;
-            if (const auto wedge = wedge_of_.find(id); wedge != wedge_of_.end()) {
-                // Features in cells with no triangles: the patches around them redone together.
-                const std::size_t index = wedge->second;
-                const std::vector<uint64_t> cells = wedges_[index].cells;
-                std::vector<uint32_t> joined;
-                for (uint64_t g : cells) {
-                    const auto patch = patch_of(g);
-                    if (patch) joined.insert(joined.end(), patch->begin(), patch->end());
-                    results_.erase(g);
-                    pending.erase(g);
+        for (int pass = 0; pass < 2; ++pass) {
+            if (pass == 1)  // the gaps in the middle of edges, once the tips have their cells
+                for (Wedge& wedge : mid_edge_wedges_) {
+                    wedges_.push_back(std::move(wedge));
+                    if (group_wedge(wedges_.size() - 1))
+                        for (uint64_t g : wedges_.back().cells) pending.insert(g);
                 }
-                if (build_wedge(wedges_[index], joined, triangles)) {
-                    results_[cells.front()] = {std::move(joined), std::move(triangles)};
+            while (!pending.empty()) {
+                const uint64_t id = *pending.begin();
+                pending.erase(pending.begin());
+                std::vector<Tri> triangles;
+                if (const auto wedge = wedge_of_.find(id); wedge != wedge_of_.end()) {
+                    // Features in cells with no triangles: the patches around them redone together.
+                    const std::size_t index = wedge->second;
+                    const std::vector<uint64_t> cells = wedges_[index].cells;
+                    std::vector<uint32_t> joined;
+                    for (uint64_t g : cells) {
+                        const auto patch = patch_of(g);
+                        if (patch) joined.insert(joined.end(), patch->begin(), patch->end());
+                        results_.erase(g);
+                        pending.erase(g);
+                    }
+                    if (build_wedge(wedges_[index], joined, triangles)) {
+                        results_[cells.front()] = {std::move(joined), std::move(triangles)};
+                        continue;
+                    }
+                    for (uint64_t g : cells) wedge_of_.erase(g), pending.insert(g);  // each on its own
+                    if (group_wedge(index))  // or a larger block
+                        for (uint64_t g : wedges_[index].cells) pending.insert(g);
                     continue;
                 }
-                for (uint64_t g : cells) wedge_of_.erase(g), pending.insert(g);  // each on its own
-                if (group_wedge(index))  // or a larger block
-                    for (uint64_t g : wedges_[index].cells) pending.insert(g);
-                continue;
-            }
-            if (const auto group = groups_.find(id); group != groups_.end()) {
-                // A corner the cells around it share: one fan over their joined patches.
-                const std::vector<uint64_t> cells = group->second;
-                std::vector<uint32_t> joined;
-                bool all = true;
-                for (uint64_t g : cells) {
-                    const auto patch = patch_of(g);
-                    if (!patch) all = false;
-                    else joined.insert(joined.end(), patch->begin(), patch->end());
-                }
-                for (uint64_t g : cells) results_.erase(g);
-                if (all && build_cell(cells.front(), &joined, triangles, &cells)) {
-                    results_[cells.front()] = {std::move(joined), std::move(triangles)};
+                if (const auto group = groups_.find(id); group != groups_.end()) {
+                    // A corner the cells around it share: one fan over their joined patches.
+                    const std::vector<uint64_t> cells = group->second;
+                    std::vector<uint32_t> joined;
+                    bool all = true;
+                    for (uint64_t g : cells) {
+                        const auto patch = patch_of(g);
+                        if (!patch) all = false;
+                        else joined.insert(joined.end(), patch->begin(), patch->end());
+                    }
+                    for (uint64_t g : cells) results_.erase(g);
+                    if (all && build_cell(cells.front(), &joined, triangles, &cells)) {
+                        results_[cells.front()] = {std::move(joined), std::move(triangles)};
+                        continue;
+                    }
+                    for (uint64_t g : cells) {  // each on its own, without the corner
+                        groups_.erase(g);
+                        apex_.erase(g);
+                        pending.insert(g);
+                    }
                     continue;
                 }
-                for (uint64_t g : cells) {  // each on its own, without the corner
-                    groups_.erase(g);
-                    apex_.erase(g);
-                    pending.insert(g);
+                const std::optional<std::vector<uint32_t>> patch = patch_of(id);
+                if (build_cell(id, patch ? &*patch : nullptr, triangles)) {
+                    if (patch && !triangles.empty()) results_[id] = {*patch, std::move(triangles)};
+                    else results_.erase(id);
+                    continue;
                 }
-                continue;
-            }
-            const std::optional<std::vector<uint32_t>> patch = patch_of(id);
-            if (build_cell(id, patch ? &*patch : nullptr, triangles)) {
-                if (patch && !triangles.empty()) results_[id] = {*patch, std::move(triangles)};
-                else results_.erase(id);
-                continue;
-            }
-            results_.erase(id);
-            if (apex_.erase(id)) {  // without its corner, the edges may still pass
-                pending.insert(id);
-                continue;
-            }
-            if (add_edge_apex(id)) {  // a fan from a point of the edge keeps the crossings
-                pending.insert(id);
-                continue;
-            }
-            for (int c : crossings_in(id)) {
-                crossings_[c].alive = false;
-                for (uint64_t other : cells_sharing(crossings_[c]))
-                    if (other != id) pending.insert(other);
+                results_.erase(id);
+                if (apex_.erase(id)) {  // without its corner, the edges may still pass
+                    pending.insert(id);
+                    continue;
+                }
+                if (add_edge_apex(id)) {  // a fan from a point of the edge keeps the crossings
+                    pending.insert(id);
+                    continue;
+                }
+                for (int c : crossings_in(id)) {
+                    crossings_[c].alive = false;
+                    for (uint64_t other : cells_sharing(crossings_[c]))
+                        if (other != id) pending.insert(other);
+                }
             }
         }
         std::set<uint32_t> used;
@@ -1283,6 +1291,7 @@ private:
                 if (parent.count(m)) parent[root(n)] = root(m);
         std::map<int, Wedge> trees;
         for (int n : nodes) trees[root(n)].nodes.push_back(n);
+        std::vector<Wedge> planned;
         for (auto& [r, wedge] : trees) {
             for (int a = 0; a < 3; ++a) wedge.span[a] = {cells_[a], -1};
             auto widen = [&](uint64_t id) {
@@ -1302,10 +1311,15 @@ private:
                         }
                 }
             }
-            // Only trees that reach a tip for now: gaps in the middle of an edge are left as
-            // they were (a wedge there met a neighbour's edge on Chainik's flat faces).
-            const bool has_tip = std::any_of(wedge.nodes.begin(), wedge.nodes.end(), [](int n) { return n < 0; });
-            if (wedge.seeds.empty() || !has_tip) continue;
+            if (!wedge.seeds.empty()) planned.push_back(std::move(wedge));
+        }
+        // Trees that reach a tip take their cells first, larger blocks included (a tip has no
+        // other way onto the mesh); the gaps in the middle of an edge wait until they are built.
+        for (Wedge& wedge : planned) {
+            if (std::none_of(wedge.nodes.begin(), wedge.nodes.end(), [](int n) { return n < 0; })) {
+                mid_edge_wedges_.push_back(std::move(wedge));
+                continue;
+            }
             wedges_.push_back(std::move(wedge));
             group_wedge(wedges_.size() - 1);
         }
@@ -1436,13 +1450,52 @@ private:
             }
         }
         if (leaves.size() < 2 || edges.size() + 1 != inner.size() + leaves.size()) return false;  // not a tree
+        // The other links in the joined cells (the edge going on from a leaf, another edge
+        // passing) cut the joined patch too, as in one cell: with the tree they must make pieces
+        // that are trees, each reaching the ring at two points or more, their other points on
+        // faces between joined cells; else a link would be lost in the joined patch, and the
+        // cells are left to themselves.
+        for (uint64_t id : wedge.cells)
+            if (const auto it = links_.find(id); it != links_.end())
+                for (const auto& [a, b] : it->second) {
+                    if (!crossings_[a].alive || !crossings_[b].alive || edges.count({a, b})) continue;
+                    edges.insert({a, b});
+                    for (int x : {a, b}) {
+                        if (inner.count(x) || leaves.count(x)) continue;
+                        if (on_ring.count(x)) leaves.insert(x);
+                        else if (!crossings_[x].on_mesh_vertex && in_group(cells_of_face(crossings_[x].face)[0]) &&
+                                 in_group(cells_of_face(crossings_[x].face)[1]))
+                            inner.insert(x);
+                        else
+                            return false;
+                    }
+                }
+        std::map<int, int> piece;  // each point → its piece
+        std::map<int, std::vector<int>> adjacent;
+        for (const auto& [a, b] : edges) adjacent[a].push_back(b), adjacent[b].push_back(a);
+        {
+            int pieces = 0;
+            for (const auto& [start, next] : adjacent) {
+                if (piece.count(start)) continue;
+                std::size_t points = 0, ends_on_ring = 0, degrees = 0;
+                std::vector<int> todo{start};
+                piece[start] = pieces;
+                while (!todo.empty()) {
+                    const int a = todo.back();
+                    todo.pop_back();
+                    ++points, ends_on_ring += leaves.count(a), degrees += adjacent[a].size();
+                    for (int b : adjacent[a])
+                        if (piece.emplace(b, pieces).second) todo.push_back(b);
+                }
+                if (degrees != 2 * (points - 1) || ends_on_ring < 2) return false;  // not a tree reaching the ring twice
+                ++pieces;
+            }
+        }
         for (int x : inner) {  // inside the block, and on no cell with triangles outside the group
             if (!box.contains(node_position(x), 1e-12 * h)) return false;
             for (uint64_t id : cells_around(node_position(x)))
                 if (!in_group(id) && (!has_patch_ || has_patch_(id))) return false;
         }
-        std::map<int, std::vector<int>> adjacent;
-        for (const auto& [a, b] : edges) adjacent[a].push_back(b), adjacent[b].push_back(a);
         std::vector<std::pair<std::size_t, int>> ends;  // leaves by their place on the ring
         for (int x : leaves) {
             const auto it = ring_index.find(crossings_[x].vertex);
@@ -1466,33 +1519,56 @@ private:
         };
         for (const auto& [a, b] : edges)
             if (!no_shared_outside_cell(node_vertex(a), node_vertex(b))) return false;
+        // The faces: from a leaf along the ring to the next leaf, then back through that leaf's
+        // piece (the tree's path or the chord) to the leaf of the piece before it on the ring, and
+        // on along the ring from there, until the face closes.
+        std::map<int, int> previous;  // a leaf → the one before it on the ring among its piece's
+        std::map<int, std::size_t> end_of;
+        {
+            std::map<int, std::vector<int>> by_piece;
+            for (std::size_t e = 0; e < ends.size(); ++e) by_piece[piece[ends[e].second]].push_back(ends[e].second), end_of[ends[e].second] = e;
+            for (const auto& [p, list] : by_piece)
+                for (std::size_t i = 0; i < list.size(); ++i) previous[list[i]] = list[(i + list.size() - 1) % list.size()];
+        }
+        std::vector<std::vector<uint32_t>> polygons;
+        std::vector<char> arc_done(ends.size(), 0);
+        for (std::size_t first = 0; first < ends.size(); ++first) {
+            if (arc_done[first]) continue;
+            std::vector<uint32_t> poly;
+            std::size_t e = first;
+            while (!arc_done[e]) {
+                arc_done[e] = 1;
+                const auto [from, start] = ends[e];
+                const auto [to, target] = ends[(e + 1) % ends.size()];
+                for (std::size_t i = from;; i = (i + 1) % m) {
+                    poly.push_back(ring[i]);
+                    if (i == to) break;
+                }
+                // The piece's path from `target` back to `goal`, through inner nodes only.
+                const int goal = previous[target];
+                std::map<int, int> came_from{{target, target}};
+                std::vector<int> frontier{target};
+                while (!frontier.empty() && !came_from.count(goal)) {
+                    const int a = frontier.back();
+                    frontier.pop_back();
+                    for (int b : adjacent[a])
+                        if (!came_from.count(b) && (b == goal || inner.count(b))) came_from[b] = a, frontier.push_back(b);
+                }
+                if (!came_from.count(goal)) return false;
+                std::vector<uint32_t> back;
+                for (int a = came_from[goal]; a != target; a = came_from[a]) back.push_back(node_vertex(a));
+                poly.insert(poly.end(), back.rbegin(), back.rend());
+                e = end_of[goal];
+            }
+            if (e != first) return false;  // the pieces cross each other
+            std::vector<uint32_t> sorted = poly;
+            std::sort(sorted.begin(), sorted.end());
+            if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) return false;
+            polygons.push_back(std::move(poly));
+        }
         std::vector<Tri> triangles;
         std::vector<std::size_t> first_of;
-        for (std::size_t e = 0; e < ends.size(); ++e) {
-            const auto [from, start] = ends[e];
-            const auto [to, target] = ends[(e + 1) % ends.size()];
-            std::vector<uint32_t> poly;
-            for (std::size_t i = from;; i = (i + 1) % m) {
-                poly.push_back(ring[i]);
-                if (i == to) break;
-            }
-            // The tree's path from `target` back to `start`, through inner nodes only.
-            std::map<int, int> came_from{{target, target}};
-            std::vector<int> frontier{target};
-            while (!frontier.empty() && !came_from.count(start)) {
-                const int a = frontier.back();
-                frontier.pop_back();
-                for (int b : adjacent[a])
-                    if (!came_from.count(b) && (b == start || inner.count(b))) came_from[b] = a, frontier.push_back(b);
-            }
-            if (!came_from.count(start)) return false;
-            std::vector<uint32_t> back;
-            for (int a = came_from[start]; a != target; a = came_from[a]) back.push_back(node_vertex(a));
-            poly.insert(poly.end(), back.rbegin(), back.rend());
-            first_of.push_back(triangles.size());
-            if (!triangulate(poly, box, triangles, kMaxWedgePolygon, no_shared_outside_cell)) return false;
-        }
-        first_of.push_back(triangles.size());
+        if (!triangulate_sides(polygons, box, kMaxWedgePolygon, no_shared_outside_cell, triangles, first_of)) return false;
         if (polygons_cross(triangles, first_of, h)) return false;
         chain_edges_ += edges.size();
         out = std::move(triangles);
@@ -1514,6 +1590,34 @@ private:
                             return true;
                 }
         return false;
+    }
+
+    /// Triangulates the polygons one after another, each new edge refused where an earlier
+    /// polygon already has it: along a nearly straight chain the two sides' least-area fans can
+    /// pick the same chord, and two folds on one edge make it non-manifold (Chainik's flat faces).
+    /// `allowed` (optional) refuses more edges. first_of: where each polygon's triangles start.
+    bool triangulate_sides(const std::vector<std::vector<uint32_t>>& polygons, const Cell& cell, int max_vertices,
+                           const std::function<bool(uint32_t, uint32_t)>& allowed, std::vector<Tri>& triangles,
+                           std::vector<std::size_t>& first_of) const {
+        std::set<std::pair<uint32_t, uint32_t>> used;
+        auto fresh = [&](uint32_t u, uint32_t v) {
+            return !used.count({std::min(u, v), std::max(u, v)}) && (!allowed || allowed(u, v));
+        };
+        for (const auto& poly : polygons) {
+            first_of.push_back(triangles.size());
+            if (!triangulate(poly, cell, triangles, max_vertices, fresh)) return false;
+            for (std::size_t t = first_of.back(); t < triangles.size(); ++t)
+                for (int e = 0; e < 3; ++e) {
+                    const uint32_t u = triangles[t][e], v = triangles[t][(e + 1) % 3];
+                    used.insert({std::min(u, v), std::max(u, v)});
+                }
+        }
+        first_of.push_back(triangles.size());
+        std::set<std::pair<uint32_t, uint32_t>> directed;  // each edge at most once each way
+        for (const Tri& t : triangles)
+            for (int e = 0; e < 3; ++e)
+                if (!directed.insert({t[e], t[(e + 1) % 3]}).second) return false;
+        return true;
     }
 
     /// Cell `id`'s patch with its crossings put on its boundary and cut along its feature
@@ -1675,11 +1779,7 @@ private:
                 if (!taken[k]) rest.push_back(ring[k]);
             polygons.push_back(std::move(rest));
             std::vector<std::size_t> first_of;  // where each polygon's triangles start
-            for (const auto& poly : polygons) {
-                first_of.push_back(triangles.size());
-                if (!triangulate(poly, cell, triangles)) return false;
-            }
-            first_of.push_back(triangles.size());
+            if (!triangulate_sides(polygons, cell, 64, {}, triangles, first_of)) return false;
             // Triangles of different polygons (the two sides of an edge) must not cross.
             if (polygons_cross(triangles, first_of, h)) return false;
         }
@@ -1714,6 +1814,7 @@ private:
     std::unordered_map<int, std::vector<int>> crossings_of_tip_;
     std::unordered_map<int, int> tip_at_;  ///< a crossing where a tip is → the tip
     std::vector<Wedge> wedges_;
+    std::vector<Wedge> mid_edge_wedges_;  ///< trees without a tip, grouped after the others are built
     std::map<uint64_t, std::size_t> wedge_of_;            ///< a wedge's cells → the wedge
     std::vector<uint64_t> corner_cells_;
     std::map<uint64_t, uint32_t> apex_;

@@ -136,18 +136,29 @@ void float_gradients(const Tape& tape, const std::array<const float*, 3>& points
                      const std::array<float*, 3>& gradient, FloatGradientScratch& s) {
     const int n = count;
     const std::size_t slots = tape.slot_count, lanes = std::size_t(n);
-    s.values.assign(slots * lanes, 0.0f);
-    s.derivatives.assign(slots * 3 * lanes, 0.0f);
+    // Every instruction writes its slots before they are read: only the arguments', the
+    // constants' and the zero slot's lanes need filling.
+    if (s.values.size() < slots * lanes) s.values.resize(slots * lanes);
+    if (s.derivatives.size() < slots * 3 * lanes) s.derivatives.resize(slots * 3 * lanes);
     // helper: operand broadcasts (3), zeros (1), partials (3).
     s.helper.assign(7 * lanes, 0.0f);
     s.value_slots.resize(slots);
     for (std::size_t k = 0; k < slots; ++k) s.value_slots[k] = s.values.data() + k * lanes;
     const auto derivative = [&](uint32_t slot, int axis) { return s.derivatives.data() + (slot * 3 + axis) * lanes; };
+    const auto clear_derivatives = [&](uint32_t slot) {
+        for (int axis = 0; axis < 3; ++axis) std::fill_n(derivative(slot, axis), n, 0.0f);
+    };
+    std::fill_n(s.value_slots[tape.zero_slot], n, 0.0f);
+    clear_derivatives(tape.zero_slot);
     for (auto [slot, axis] : tape.arguments) {
         std::copy_n(points[axis], n, s.value_slots[slot]);
+        clear_derivatives(slot);
         std::fill_n(derivative(slot, axis), n, 1.0f);
     }
-    for (auto [slot, constant] : tape.constants) std::fill_n(s.value_slots[slot], n, static_cast<float>(constant));
+    for (auto [slot, constant] : tape.constants) {
+        std::fill_n(s.value_slots[slot], n, static_cast<float>(constant));
+        clear_derivatives(slot);
+    }
     float* broadcast[3] = {s.helper.data(), s.helper.data() + lanes, s.helper.data() + 2 * lanes};
     const float* zeros = s.helper.data() + 3 * lanes;
     float* partial[3] = {s.helper.data() + 4 * lanes, s.helper.data() + 5 * lanes, s.helper.data() + 6 * lanes};

@@ -180,17 +180,37 @@ void float_gradients(const Tape& tape, const std::array<const float*, 3>& points
             for (int axis = 0; axis < 3; ++axis)
                 d_operand[i][axis] = i >= arity || constant ? zeros : derivative(ins.in[i], axis);
         }
-        partials(ins, operand[0], operand[1], s.value_slots[ins.out], d_operand[1], partial[0], partial[1],
-                 partial[2], n);
+        // Only the operands that vary contribute (a constant's derivative is 0, so is SELECT's
+        // condition's); ADD, SUB and NEG add or subtract them without a partial.
+        int varying[3], varying_count = 0;
+        for (int i = ins.op == Op::Select ? 1 : 0; i < arity; ++i)
+            if (!((ins.constant_operands >> i) & 1)) varying[varying_count++] = i;
+        if (varying_count == 0) {
+            for (float* d : out) std::fill_n(d, n, 0.0f);
+            continue;
+        }
+        const bool linear = ins.op == Op::Add || ins.op == Op::Sub || ins.op == Op::Neg;
+        if (!linear)
+            partials(ins, operand[0], operand[1], s.value_slots[ins.out], d_operand[1], partial[0], partial[1],
+                     partial[2], n);
         for (int axis = 0; axis < 3; ++axis) {
             float* __restrict d = out[axis];
-            const float* __restrict da = d_operand[0][axis];
-            const float* __restrict pa = partial[0];
-            for (int l = 0; l < n; ++l) d[l] = pa[l] * da[l];
-            for (int i = 1; i < arity; ++i) {
+            for (int v = 0; v < varying_count; ++v) {
+                const int i = varying[v];
                 const float* __restrict di = d_operand[i][axis];
                 const float* __restrict pi = partial[i];
-                for (int l = 0; l < n; ++l) d[l] += pi[l] * di[l];
+                const bool negated = ins.op == Op::Neg || (ins.op == Op::Sub && i == 1);
+                if (linear && v == 0) {
+                    if (negated) for (int l = 0; l < n; ++l) d[l] = -di[l];
+                    else std::copy_n(di, n, d);
+                } else if (linear) {
+                    if (negated) for (int l = 0; l < n; ++l) d[l] -= di[l];
+                    else for (int l = 0; l < n; ++l) d[l] += di[l];
+                } else if (v == 0) {
+                    for (int l = 0; l < n; ++l) d[l] = pi[l] * di[l];
+                } else {
+                    for (int l = 0; l < n; ++l) d[l] += pi[l] * di[l];
+                }
             }
         }
     }

@@ -4,6 +4,7 @@
 #include "interp/shaded_view.hpp"
 
 #include "interp/box_simplify.hpp"
+#include "interp/float_gradient.hpp"
 #include "interp/interval.hpp"
 #include "interp/ir/dual.hpp"
 #include "interp/lane_kernel.hpp"
@@ -138,6 +139,10 @@ struct Scratch {
     SlotScratch slot_scratch;
     std::vector<ir::Dual> duals;
     std::vector<ir::Dual*> dual_slots;
+    bool leaf_float_gradient = false;   ///< leaf_tape has float32 derivative rules for every instruction
+    FloatGradientScratch float_gradient;
+    std::vector<float> points;           ///< the hits' coordinates, values and gradients in float32
+    std::vector<Hit> dual_hits;          ///< the hits whose float32 gradient was not finite
 };
 
 class ViewRenderer {
@@ -170,7 +175,7 @@ public:
             if (sum.lo > sum.hi) return;   // outside the domain
             axes[a] = sum;
         }
-        if (r.c1 - r.c0 < kLeafPixels && r.r1 - r.r0 < kLeafPixels && r.k1 - r.k0 < kLeafDepth) {
+        if (is_leaf(r)) {
             evaluate_leaf(r, tape, generation, s);
             return;
         }
@@ -199,11 +204,21 @@ public:
             a.r1 = (r.r0 + r.r1) / 2;
             b.r0 = a.r1 + 1;
         }
+        // Two leaves side by side (not one behind the other) run as one: the same samples, one
+        // pass over the tape instead of two (bear.vm 256²: 3% fewer instructions).
+        if (a.k0 == b.k0 && is_leaf(a) && is_leaf(b)) {
+            evaluate_leaf(r, *next, generation, s);
+            return;
+        }
         render(a, *next, s, depth + 1, generation);
         render(b, *next, s, depth + 1, generation);
     }
 
 private:
+    static bool is_leaf(const Region& r) {
+        return r.c1 - r.c0 < kLeafPixels && r.r1 - r.r0 < kLeafPixels && r.k1 - r.k0 < kLeafDepth;
+    }
+
     /// Every pixel of the region already has a hit in front of it.
     bool all_hit_before(const Region& r) const {
         for (int row = r.r0; row <= r.r1; ++row)
@@ -234,6 +249,7 @@ private:
         if (s.leaf_tape_of != generation || generation == 0) {
             finish(s);   // the hits waiting for normals were found with the tape about to be replaced
             reallocate_slots(ssa, s.leaf_tape, s.slot_scratch);
+            s.leaf_float_gradient = float_gradient_supported(s.leaf_tape);
             s.leaf_tape_of = generation;
         }
         const Tape& tape = s.leaf_tape;
@@ -308,35 +324,62 @@ private:
         else image_.normal[pixel] = {0.0f, 0.0f, 1.0f};
     }
 
-    /// The unit normals (outward: against the gradient, which points inside) at the hits.
+    /// The unit normals (outward: against the gradient, which points inside) at the hits, and
+    /// their depths refined. float32 forward-mode gradients (float_gradient.hpp) where the tape
+    /// has their rules and the result is finite, else ir::Dual in float64.
     void normals(const std::vector<Hit>& hits, const Tape& tape, Scratch& s) {
         if (hits.empty()) return;
-        const int n = static_cast<int>(hits.size());
+        const std::vector<Hit>* exact = &hits;
+        if (s.leaf_float_gradient) {
+            const int n = static_cast<int>(hits.size());
+            s.points.resize(std::size_t(7) * n);
+            float* p = s.points.data();
+            for (int a = 0; a < 3; ++a)
+                for (int i = 0; i < n; ++i) p[a * n + i] = static_cast<float>(hits[i].at[a]);
+            float* value = p + 3 * n;
+            const std::array<float*, 3> grad{p + 4 * n, p + 5 * n, p + 6 * n};
+            float_gradients(tape, {p, p + n, p + 2 * n}, n, value, grad, s.float_gradient);
+            s.dual_hits.clear();
+            for (int i = 0; i < n; ++i) {
+                const Vec g{grad[0][i], grad[1][i], grad[2][i]};
+                if (std::isfinite(value[i]) && std::isfinite(g[0]) && std::isfinite(g[1]) && std::isfinite(g[2]) &&
+                    (g[0] != 0 || g[1] != 0 || g[2] != 0))
+                    place_normal(hits[i], value[i], g);
+                else
+                    s.dual_hits.push_back(hits[i]);
+            }
+            exact = &s.dual_hits;
+            if (exact->empty()) return;
+        }
+        const int n = static_cast<int>(exact->size());
         s.duals.assign(std::size_t(tape.slot_count) * n, ir::Dual(0.0));
         s.dual_slots.resize(tape.slot_count);
         for (std::size_t k = 0; k < tape.slot_count; ++k) s.dual_slots[k] = s.duals.data() + k * n;
         for (auto [slot, axis] : tape.arguments)
-            for (int i = 0; i < n; ++i) s.dual_slots[slot][i] = ir::Dual::variable(hits[i].at[axis], axis);
+            for (int i = 0; i < n; ++i) s.dual_slots[slot][i] = ir::Dual::variable((*exact)[i].at[axis], axis);
         for (auto [slot, value] : tape.constants)
             for (int i = 0; i < n; ++i) s.dual_slots[slot][i] = ir::Dual(value);
         run_lanes<ir::Dual, 0>(tape.code.data(), tape.code.size(), s.dual_slots.data(), n);
         const ir::Dual* g = s.dual_slots[tape.root_slot];
-        for (int i = 0; i < n; ++i) {
-            const Vec grad{-g[i].d[0], -g[i].d[1], -g[i].d[2]};
-            const double x = dot(grad, cam_.right), y = dot(grad, cam_.up), z = -dot(grad, cam_.into);
-            const double len = std::sqrt(x * x + y * y + z * z);
-            // Newton along the ray (df/dk = ∇f · into × step), kept only inside the bracket. A hit
-            // at its leaf's first sample starts a whole sample away, where Newton may overshoot
-            // a little: its step is clamped to the sample before.
-            const Hit& h = hits[i];
-            double kk = h.kk - g[i].v / (-dot(grad, cam_.into) * cam_.step);
-            if (!h.bracketed && std::isfinite(kk)) kk = std::clamp(kk, h.k - 1.0, double(h.k));
-            if (std::isfinite(kk) && kk >= h.k - 1 && kk <= h.k)
-                image_.depth[h.pixel] = static_cast<float>(kk / (cam_.depth_samples - 1));
-            image_.normal[hits[i].pixel] = len > 0 && std::isfinite(len)
-                                               ? std::array<float, 3>{float(x / len), float(y / len), float(z / len)}
-                                               : std::array<float, 3>{0.0f, 0.0f, 1.0f};
-        }
+        for (int i = 0; i < n; ++i) place_normal((*exact)[i], g[i].v, {g[i].d[0], g[i].d[1], g[i].d[2]});
+    }
+
+    /// The hit's normal from the model's gradient there, and its depth refined by one Newton
+    /// step along the ray from `value`.
+    void place_normal(const Hit& h, double value, const Vec& gradient) {
+        const Vec grad{-gradient[0], -gradient[1], -gradient[2]};
+        const double x = dot(grad, cam_.right), y = dot(grad, cam_.up), z = -dot(grad, cam_.into);
+        const double len = std::sqrt(x * x + y * y + z * z);
+        // Newton along the ray (df/dk = ∇f · into × step), kept only inside the bracket. A hit
+        // at its leaf's first sample starts a whole sample away, where Newton may overshoot
+        // a little: its step is clamped to the sample before.
+        double kk = h.kk - value / (-dot(grad, cam_.into) * cam_.step);
+        if (!h.bracketed && std::isfinite(kk)) kk = std::clamp(kk, h.k - 1.0, double(h.k));
+        if (std::isfinite(kk) && kk >= h.k - 1 && kk <= h.k)
+            image_.depth[h.pixel] = static_cast<float>(kk / (cam_.depth_samples - 1));
+        image_.normal[h.pixel] = len > 0 && std::isfinite(len)
+                                     ? std::array<float, 3>{float(x / len), float(y / len), float(z / len)}
+                                     : std::array<float, 3>{0.0f, 0.0f, 1.0f};
     }
 
 public:

@@ -11,9 +11,11 @@
 // points with the lane kernel in float32, where SLEEF's vector exp/log make a sample several
 // times cheaper than libm's float64 ones: float32 only finds each pixel's first sample at or
 // inside the surface. The hit is placed between it and the sample before by the values' zero
-// crossing, then refined in float64 by one Newton step along the ray from the value and
-// gradient there (dual numbers on the region's shortened tape, which keeps the zero set and
-// the sign of the model, so the unit normal is the model's); the normal is that gradient.
+// crossing, then refined by one Newton step along the ray from the value and gradient there
+// (exact derivatives on the region's shortened tape, which keeps the zero set and the sign of
+// the model, so the unit normal is the model's); the normal is that gradient. The gradients
+// of a batch of hits run as float32 lanes (float_gradient.hpp), ir::Dual in float64 only
+// where those are not finite or the tape has an operation without a float32 rule.
 #pragma once
 
 #include "interp/engine.hpp"

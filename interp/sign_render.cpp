@@ -76,7 +76,7 @@ constexpr uint32_t kReallocateAboveSlots = 4096;
 template <class Value>
 Value stored_sign(double sign) {
     if constexpr (std::is_same_v<Value, double>) return sign;
-    else return sign != sign ? SignVolume::kNaN : static_cast<int8_t>(sign);
+    else return SignVolume::code_of(sign != sign ? SignVolume::kNaN : static_cast<int8_t>(sign));
 }
 
 /// The stored sign of a value, without branches (the leaves' store loop vectorises):
@@ -84,7 +84,7 @@ Value stored_sign(double sign) {
 template <class Value, class F>
 Value stored_sign_of(F v) {
     if constexpr (std::is_same_v<Value, double>) return double(ir::k_sign(v));
-    else return static_cast<int8_t>(int((v > 0) - (v < 0)) | (int(v != v) << 7));  // NaN: 0x80 = kNaN
+    else return static_cast<int8_t>(~(int((v > 0) - (v < 0)) | (int(v != v) << 7)));  // NaN: 0x80 = kNaN
 }
 
 /// The signs start as outside (−1) and boxes decided outside are not written again: most of a
@@ -374,12 +374,14 @@ void render_signs(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
     using Value = typename Signs::value_type;
     // Allocating the result (page faults: ~3 ms for 1024²) runs on its own thread while
     // the first levels of the tree only decide boxes; their fills wait for it. One sequential
-    // pass writes the background (a SignVolume in huge pages, huge_pages.hpp); a cancelled
+    // pass writes the background of a Field (a SignVolume's is its zeroed pages); a cancelled
     // render reads NaN everywhere, so no unreached node passes for outside.
     std::exception_ptr allocation_failure;
     std::jthread allocation([&] {  // joined on any exit, so an exception cannot leave it running
         try {
-            signs.assign(grid.points(), stored_sign<Value>(kBackgroundSign));
+            // int8 codes start as outside: the fresh pages' zero bytes (SignVolume).
+            if constexpr (std::is_same_v<Value, double>) signs.assign(grid.points(), kBackgroundSign);
+            else signs.resize(grid.points());
         } catch (...) {
             allocation_failure = std::current_exception();
         }
@@ -475,15 +477,15 @@ SignVolume sign_render_volume(const ir::Graph& graph, ir::NodeId root, const Gri
                               SignRenderStats* stats) {
     SignVolume volume;
     volume.grid = grid;
-    render_signs(graph, root, grid, options, stats, volume.signs);
+    render_signs(graph, root, grid, options, stats, volume.codes);
     return volume;
 }
 
 Field SignVolume::expanded() const {
     Field field;
     field.grid = grid;
-    field.values.resize(signs.size());
-    for (std::size_t i = 0; i < signs.size(); ++i) field.values[i] = signs[i] == kNaN ? std::nan("") : signs[i];
+    field.values.resize(codes.size());
+    for (std::size_t i = 0; i < codes.size(); ++i) field.values[i] = sign(i) == kNaN ? std::nan("") : sign(i);
     return field;
 }
 
@@ -492,16 +494,17 @@ FieldStats SignVolume::stats() const {
     // compares: the plain loop took longer than rendering tanglecube.vm's 256³ signs.
     constexpr std::size_t kLanes = 64, kRounds = 255;  // a byte counter holds 255
     std::size_t positive = 0, zero = 0, invalid = 0, i = 0;
-    const int8_t* v = signs.data();
-    const std::size_t n = signs.size();
+    const int8_t* v = codes.data();
+    const std::size_t n = codes.size();
+    constexpr int8_t kPositive = code_of(1), kZero = code_of(0), kInvalid = code_of(kNaN);
     for (; i + kLanes * kRounds <= n; i += kLanes * kRounds) {
         uint8_t pos[kLanes] = {}, zer[kLanes] = {}, nan[kLanes] = {};
         for (std::size_t r = 0; r < kRounds; ++r)
             for (std::size_t l = 0; l < kLanes; ++l) {
                 const int8_t x = v[i + r * kLanes + l];
-                pos[l] += x > 0;
-                zer[l] += x == 0;
-                nan[l] += x == kNaN;
+                pos[l] += x == kPositive;
+                zer[l] += x == kZero;
+                nan[l] += x == kInvalid;
             }
         for (std::size_t l = 0; l < kLanes; ++l) {
             positive += pos[l];
@@ -510,9 +513,9 @@ FieldStats SignVolume::stats() const {
         }
     }
     for (; i < n; ++i) {
-        positive += v[i] > 0;
-        zero += v[i] == 0;
-        invalid += v[i] == kNaN;
+        positive += v[i] == kPositive;
+        zero += v[i] == kZero;
+        invalid += v[i] == kInvalid;
     }
     FieldStats s;
     s.points = n;

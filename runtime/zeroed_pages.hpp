@@ -1,6 +1,6 @@
 // runtime/zeroed_pages.hpp — an allocator whose memory starts as zero bytes without being
 // written: fresh anonymous pages from mmap, in 2 MiB transparent huge pages where the kernel
-// has them (madvise(MADV_HUGEPAGE), as huge_pages.hpp).
+// has them (madvise(MADV_HUGEPAGE): a 256³ volume is then 8 page faults, not 4,096).
 //
 // Why: a sign volume is mostly background; when its encoding makes the background a zero
 // byte, the kernel's page zeroing is its only initialisation. Writing the background over

@@ -69,13 +69,20 @@ void simplify_for_sign(const Tape& tape, const std::vector<Interval>& ranges, Bo
     s.sign_only.assign(slots, 1);
     s.replacement.assign(slots, BoxScratch::Value{kItself, false, 0.0});
     s.renamed.resize(slots);
+    s.live_code.clear();
     s.live[tape.root_slot] = 1;
     s.sign_only[tape.root_slot] = keep_values ? 0 : 1;
+    // Local pointers: through the vectors the compiler reloads each one's data pointer after
+    // every store (they might alias), in the tightest loop of this pass.
+    uint8_t* const live = s.live.data();
 
-    // Backward: what each live value needs of its operands (users come after operands).
+    // Backward: what each live value needs of its operands (users come after operands). The
+    // live instructions are listed, so the forward pass does not walk the dead ones again
+    // (most of a long tape over a small box; the dead-or-live branch there was mispredicted).
     for (std::size_t i = tape.code.size(); i-- > 0;) {
         const Instruction& ins = tape.code[i];
-        if (!s.live[ins.out]) continue;
+        if (!live[ins.out]) continue;
+        s.live_code.push_back(static_cast<uint32_t>(i));
         const bool so = s.sign_only[ins.out];
         const Interval& r = ranges[ins.out];
         if (so && (r.positive() || r.negative())) {
@@ -89,7 +96,7 @@ void simplify_for_sign(const Tape& tape, const std::vector<Interval>& ranges, Bo
             } else {
                 const uint32_t operand = ins.in[choice];
                 s.replacement[ins.out] = {operand, false, 0.0};
-                s.live[operand] = 1;
+                live[operand] = 1;
                 s.sign_only[operand] &= so;
             }
             continue;
@@ -97,7 +104,7 @@ void simplify_for_sign(const Tape& tape, const std::vector<Interval>& ranges, Bo
         const int arity = ir::op_arity(ins.op);
         for (int k = 0; k < arity; ++k) {
             if (is_immediate(ins, k)) continue;
-            s.live[ins.in[k]] = 1;
+            live[ins.in[k]] = 1;
             s.sign_only[ins.in[k]] &= (so && ir::passes_sign(ins.op, k)) ? 1 : 0;
         }
     }
@@ -112,13 +119,13 @@ void simplify_for_sign(const Tape& tape, const std::vector<Interval>& ranges, Bo
     out.zero_slot = 0;
     uint32_t next_slot = 1;
     for (auto [slot, axis] : tape.arguments) {
-        if (!s.live[slot]) continue;
+        if (!live[slot]) continue;
         s.renamed[slot] = {next_slot, false, 0.0};
         out.arguments.emplace_back(next_slot++, axis);
     }
     for (auto [slot, value] : tape.constants) s.renamed[slot] = constant_value(value);
-    for (const Instruction& ins : tape.code) {
-        if (!s.live[ins.out]) continue;
+    for (std::size_t k = s.live_code.size(); k-- > 0;) {
+        const Instruction& ins = tape.code[s.live_code[k]];
         const BoxScratch::Value& rep = s.replacement[ins.out];
         if (rep.constant) {
             s.renamed[ins.out] = rep;

@@ -32,6 +32,7 @@ struct BoxScratch {
     std::vector<uint8_t> sign_only;
     std::vector<Value> replacement;   ///< per slot of the input: what replaces it (slot = ~0: itself)
     std::vector<Value> renamed;       ///< per slot of the input: its value in the output
+    std::vector<uint32_t> live_code;  ///< indices of the live instructions, last first
 };
 
 /// `tape` (SSA, with slot ranges `ranges` over a box) shortened for the sign of its root

@@ -76,7 +76,7 @@ constexpr uint32_t kReallocateAboveSlots = 4096;
 template <class Value>
 Value stored_sign(double sign) {
     if constexpr (std::is_same_v<Value, double>) return sign;
-    else return sign != sign ? SignVolume::kNaN : static_cast<int8_t>(sign);
+    else return SignVolume::code_of(sign != sign ? SignVolume::kNaN : static_cast<int8_t>(sign));
 }
 
 /// The stored sign of a value, without branches (the leaves' store loop vectorises):
@@ -84,7 +84,7 @@ Value stored_sign(double sign) {
 template <class Value, class F>
 Value stored_sign_of(F v) {
     if constexpr (std::is_same_v<Value, double>) return double(ir::k_sign(v));
-    else return static_cast<int8_t>(int((v > 0) - (v < 0)) | (int(v != v) << 7));  // NaN: 0x80 = kNaN
+    else return static_cast<int8_t>(~(int((v > 0) - (v < 0)) | (int(v != v) << 7)));  // NaN: 0x80 = kNaN
 }
 
 /// The signs start as outside (−1) and boxes decided outside are not written again: most of a
@@ -111,6 +111,13 @@ public:
     /// otherwise simplifies `tape` into `simplified` and returns nullopt.
     std::optional<double> decide(const Box& box, const Tape& tape, Scratch& s, Tape& simplified,
                                  SignRenderStats& st) const {
+        if (const std::optional<double> sign = interval_sign(box, tape, s, st)) return sign;
+        simplify_for_sign(tape, s.ranges, s.box, simplified);
+        return std::nullopt;
+    }
+
+    /// The box's intervals (into s.ranges): the sign of the whole box when they decide it.
+    std::optional<double> interval_sign(const Box& box, const Tape& tape, Scratch& s, SignRenderStats& st) const {
         ++st.boxes;
         evaluate_intervals(tape, {axis_interval(box, 0), axis_interval(box, 1), axis_interval(box, 2)}, s.ranges);
         const Interval& r = s.ranges[tape.root_slot];
@@ -118,7 +125,6 @@ public:
             st.decided_points += box.points();
             return r.positive() ? 1.0 : r.negative() ? -1.0 : 0.0;
         }
-        simplify_for_sign(tape, s.ranges, s.box, simplified);
         return std::nullopt;
     }
 
@@ -133,27 +139,60 @@ public:
         return halve_axes(box, [&box](int a) { return box.hi[a] != box.lo[a]; });
     }
 
+    /// The parts of split(box), in the same order, without allocating (the depth-first walk
+    /// splits every undecided box; split allocates three vectors each time).
+    struct Parts {
+        Box box[8];
+        int count = 0;
+        const Box* begin() const { return box; }
+        const Box* end() const { return box + count; }
+    };
+    static Parts split_in_place(const Box& box) {
+        Parts parts;
+        parts.box[0] = box;
+        parts.count = 1;
+        for (int a = 0; a < 3; ++a) {
+            if (box.hi[a] == box.lo[a]) continue;
+            const int mid = (box.lo[a] + box.hi[a]) / 2;
+            for (int i = parts.count; i-- > 0;) {   // backwards: part i becomes parts 2i, 2i + 1
+                Box low = parts.box[i], high = parts.box[i];
+                low.hi[a] = mid;
+                high.lo[a] = mid + 1;
+                parts.box[2 * i] = low;
+                parts.box[2 * i + 1] = high;
+            }
+            parts.count *= 2;
+        }
+        return parts;
+    }
+
     /// Depth-first: the box with its parent's tape.
     void render(const Box& box, const Tape& tape, Scratch& s, std::size_t depth, SignRenderStats& st) {
         if (s.tapes.size() <= depth) s.tapes.push_back(std::make_unique<Tape>());
         Tape& simplified = *s.tapes[depth];
-        if (const std::optional<double> sign = decide(box, tape, s, simplified, st)) {
+        if (const std::optional<double> sign = interval_sign(box, tape, s, st)) {
             if (*sign != kBackgroundSign) fill(box, *sign);
             return;
         }
+        double parent_bound = 0.0;
+        if (grid_.slices() > 1 && is_leaf(box) && evaluate_points_unsimplified(box, tape, s, st, parent_bound)) return;
+        simplify_for_sign(tape, s.ranges, s.box, simplified);
         if (is_leaf(box)) {
-            const double bound = float32_bound(box, simplified, s);
             // A 3D leaf whose float32 bound is not finite over the whole box: its parts have
             // tighter intervals (bear.vm's sums of exponentials), so they try again; the
             // float64 lanes that remain, 64 where they were 512, carry libm's scalar calls.
-            if (!(bound < kUnbounded) && grid_.slices() > 1 && box.hi[0] - box.lo[0] + 1 > kSplitLeafExtent3d) {
-                for (const Box& child : split(box)) render(child, simplified, s, depth + 1, st);
+            // Where the parent's tape had no finite bound over this box, its shortened tape
+            // is not tried first: it rarely has one (bear.vm 128³: 3% fewer instructions).
+            const bool splits = grid_.slices() > 1 && box.hi[0] - box.lo[0] + 1 > kSplitLeafExtent3d;
+            const double bound = splits && !(parent_bound < kUnbounded) ? kUnbounded : float32_bound(box, simplified, s);
+            if (!(bound < kUnbounded) && splits) {
+                for (const Box& child : split_in_place(box)) render(child, simplified, s, depth + 1, st);
                 return;
             }
             evaluate_points(box, simplified, bound, s, st);
             return;
         }
-        for (const Box& child : split(box)) render(child, simplified, s, depth + 1, st);
+        for (const Box& child : split_in_place(box)) render(child, simplified, s, depth + 1, st);
     }
 
     /// Calls body(width) with the box's width as a compile-time constant for the leaves'
@@ -268,6 +307,25 @@ public:
         else run_lanes<F, 0>(tape.code.data(), tape.code.size(), slots, n);
     }
 
+    /// A 3D leaf on its parent's tape, in float32, with the bound from the ranges its interval
+    /// pass left in s.ranges: no shortening and no second interval pass. Why: a leaf's own
+    /// shortening and the intervals of its shortened tape cost about as much per operation as
+    /// running the operation on its points in float32, so they pay only where they remove
+    /// almost all of the parent's tape: they do in 2D (prospero.vm 1024², render instructions
+    /// 73 M with them, 80 M without), not in 3D (tanglecube.vm 256³ 18.1 M → 15.9 M, bear.vm
+    /// 128³ 1,197 M → 1,174 M). False (nothing written) when the bound is not finite or most
+    /// points fall within it: the shortened path then decides. `bound`: the bound found.
+    bool evaluate_points_unsimplified(const Box& box, const Tape& tape, Scratch& s, SignRenderStats& st,
+                                      double& bound) {
+        bound = kUnbounded;
+        if (tape.slot_count > kReallocateAboveSlots) return false;
+        bound = float32_error_bound(tape, s.ranges, s.errors);
+        if (!evaluate_points_float32(box, tape, bound, s)) return false;
+        st.leaf_points += box.points();
+        st.leaf_operations += box.points() * tape.code.size();
+        return true;
+    }
+
     /// The leaf's points: in float32 where `bound` (float32_bound) allows, else in float64.
     void evaluate_points(const Box& box, const Tape& ssa, double bound, Scratch& s, SignRenderStats& st) {
         if (ssa.slot_count <= kReallocateAboveSlots && evaluate_points_float32(box, ssa, bound, s)) {
@@ -316,12 +374,14 @@ void render_signs(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
     using Value = typename Signs::value_type;
     // Allocating the result (page faults: ~3 ms for 1024²) runs on its own thread while
     // the first levels of the tree only decide boxes; their fills wait for it. One sequential
-    // pass writes the background (a SignVolume in huge pages, huge_pages.hpp); a cancelled
+    // pass writes the background of a Field (a SignVolume's is its zeroed pages); a cancelled
     // render reads NaN everywhere, so no unreached node passes for outside.
     std::exception_ptr allocation_failure;
     std::jthread allocation([&] {  // joined on any exit, so an exception cannot leave it running
         try {
-            signs.assign(grid.points(), stored_sign<Value>(kBackgroundSign));
+            // int8 codes start as outside: the fresh pages' zero bytes (SignVolume).
+            if constexpr (std::is_same_v<Value, double>) signs.assign(grid.points(), kBackgroundSign);
+            else signs.resize(grid.points());
         } catch (...) {
             allocation_failure = std::current_exception();
         }
@@ -417,15 +477,15 @@ SignVolume sign_render_volume(const ir::Graph& graph, ir::NodeId root, const Gri
                               SignRenderStats* stats) {
     SignVolume volume;
     volume.grid = grid;
-    render_signs(graph, root, grid, options, stats, volume.signs);
+    render_signs(graph, root, grid, options, stats, volume.codes);
     return volume;
 }
 
 Field SignVolume::expanded() const {
     Field field;
     field.grid = grid;
-    field.values.resize(signs.size());
-    for (std::size_t i = 0; i < signs.size(); ++i) field.values[i] = signs[i] == kNaN ? std::nan("") : signs[i];
+    field.values.resize(codes.size());
+    for (std::size_t i = 0; i < codes.size(); ++i) field.values[i] = sign(i) == kNaN ? std::nan("") : sign(i);
     return field;
 }
 
@@ -434,16 +494,17 @@ FieldStats SignVolume::stats() const {
     // compares: the plain loop took longer than rendering tanglecube.vm's 256³ signs.
     constexpr std::size_t kLanes = 64, kRounds = 255;  // a byte counter holds 255
     std::size_t positive = 0, zero = 0, invalid = 0, i = 0;
-    const int8_t* v = signs.data();
-    const std::size_t n = signs.size();
+    const int8_t* v = codes.data();
+    const std::size_t n = codes.size();
+    constexpr int8_t kPositive = code_of(1), kZero = code_of(0), kInvalid = code_of(kNaN);
     for (; i + kLanes * kRounds <= n; i += kLanes * kRounds) {
         uint8_t pos[kLanes] = {}, zer[kLanes] = {}, nan[kLanes] = {};
         for (std::size_t r = 0; r < kRounds; ++r)
             for (std::size_t l = 0; l < kLanes; ++l) {
                 const int8_t x = v[i + r * kLanes + l];
-                pos[l] += x > 0;
-                zer[l] += x == 0;
-                nan[l] += x == kNaN;
+                pos[l] += x == kPositive;
+                zer[l] += x == kZero;
+                nan[l] += x == kInvalid;
             }
         for (std::size_t l = 0; l < kLanes; ++l) {
             positive += pos[l];
@@ -452,9 +513,9 @@ FieldStats SignVolume::stats() const {
         }
     }
     for (; i < n; ++i) {
-        positive += v[i] > 0;
-        zero += v[i] == 0;
-        invalid += v[i] == kNaN;
+        positive += v[i] == kPositive;
+        zero += v[i] == kZero;
+        invalid += v[i] == kInvalid;
     }
     FieldStats s;
     s.points = n;

@@ -16,7 +16,7 @@
 #include "runtime/field.hpp"
 #include "runtime/field_stats.hpp"
 #include "runtime/grid.hpp"
-#include "runtime/huge_pages.hpp"
+#include "runtime/zeroed_pages.hpp"
 
 #include <cstddef>
 #include <cstdint>
@@ -43,14 +43,18 @@ Field sign_render(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
                   SignRenderStats* stats = nullptr);
 
 /// The signs of a grid kept as one int8 per node (1, 0, -1, kNaN), 8 times less memory than
-/// a Field: how `fortu run --sign-only` keeps 3D volumes (256³: 16 MiB, not 128 MiB, in
-/// 2 MiB huge pages where the kernel has them: 8 page faults, not 32,768), expanded to
-/// float64 only when a values file is written.
+/// a Field: how `fortu run --sign-only` keeps its signs (256³: 16 MiB, not 128 MiB, in 2 MiB
+/// huge pages where the kernel has them), expanded to float64 only when a values file is
+/// written. Stored bit-inverted (`codes[i] = ~sign`), so outside (−1), the background of
+/// most volumes, is a zero byte: fresh pages are outside without a pass writing them
+/// (zeroed_pages.hpp).
 struct SignVolume {
     static constexpr int8_t kNaN = -128;
     Grid grid;
-    std::vector<int8_t, HugePageAllocator<int8_t>> signs;   ///< grid.points() signs in image order
+    std::vector<int8_t, ZeroedPageAllocator<int8_t>> codes;   ///< grid.points() codes (~sign) in image order
 
+    static constexpr int8_t code_of(int8_t sign) { return static_cast<int8_t>(~sign); }
+    int8_t sign(std::size_t i) const { return static_cast<int8_t>(~codes[i]); }  ///< 1, 0, -1 or kNaN
     Field expanded() const;      ///< as float64 values (NaN for kNaN)
     FieldStats stats() const;    ///< equals field_stats(expanded())
 };

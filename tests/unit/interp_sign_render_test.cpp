@@ -9,6 +9,7 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <atomic>
 
 #include <cmath>
@@ -166,7 +167,7 @@ TEST_CASE("a 3D sign volume keeps one int8 per node: the same signs and statisti
     const Grid g = grid_for(*c.model, 0, 17);
     const Field field = sign_render(c.model->graph, c.model->root, g);
     const SignVolume volume = sign_render_volume(c.model->graph, c.model->root, g);
-    REQUIRE(volume.signs.size() == g.points());
+    REQUIRE(volume.codes.size() == g.points());
     const Field expanded = volume.expanded();
     std::size_t differing = 0;
     for (std::size_t i = 0; i < g.points(); ++i) {
@@ -174,9 +175,9 @@ TEST_CASE("a 3D sign volume keeps one int8 per node: the same signs and statisti
         differing += !(a == b || (std::isnan(a) && std::isnan(b)));
     }
     CHECK(differing == 0);
-    CHECK(volume.signs[g.index(0, 0, 0)] == SignVolume::kNaN);
-    CHECK(volume.signs[g.index(16, 8, 0)] == -1);   // x = 1, y = 0, z = −1: (1.5)(−0.4)
-    CHECK(volume.signs[g.index(12, 8, 12)] == 0);   // z = 0.5
+    CHECK(volume.sign(g.index(0, 0, 0)) == SignVolume::kNaN);
+    CHECK(volume.sign(g.index(16, 8, 0)) == -1);   // x = 1, y = 0, z = −1: (1.5)(−0.4)
+    CHECK(volume.sign(g.index(12, 8, 12)) == 0);   // z = 0.5
     const FieldStats a = field_stats(field), b = volume.stats();
     CHECK(a.invalid == b.invalid);
     CHECK(a.positive == b.positive);
@@ -225,6 +226,26 @@ TEST_CASE("the volume starts outside: boxes decided inside, on the boundary or N
     }
 }
 
+TEST_CASE("a sign volume stores ~sign: outside is a zero byte, so fresh zeroed pages need no background pass") {
+    CHECK(SignVolume::code_of(-1) == 0);
+    CHECK(SignVolume::code_of(0) == -1);
+    CHECK(SignVolume::code_of(1) == -2);
+    CHECK(SignVolume::code_of(SignVolume::kNaN) == 127);
+    // Outside everywhere over 65³ nodes (past one 4 KiB page, under one huge page) and 129³
+    // (past 2 MiB): every code is the untouched zero, and decodes to −1.
+    test::Compiled c = test::compile_text("ARGUMENT x(-1, 1), y(-1, 1), z(-1, 1);\nRETURN -1 - x*x - y*y - z*z;\n");
+    REQUIRE_MESSAGE(c.model, c.sink.render_all());
+    for (int n : {65, 129}) {
+        CAPTURE(n);
+        const Grid g = grid_for(*c.model, 0, n);
+        const SignVolume volume = sign_render_volume(c.model->graph, c.model->root, g);
+        REQUIRE(volume.codes.size() == g.points());
+        CHECK(std::count(volume.codes.begin(), volume.codes.end(), int8_t{0}) == std::ptrdiff_t(g.points()));
+        CHECK(volume.sign(g.points() - 1) == -1);
+        CHECK(volume.stats().negative == g.points());
+    }
+}
+
 TEST_CASE("a sign volume past 2 MiB (huge pages) counts its statistics as the float64 field does") {
     // 129³ nodes: 2,146,689 signs, many blocks of the vectorised count and a tail.
     test::Compiled c = test::compile_text(
@@ -232,7 +253,7 @@ TEST_CASE("a sign volume past 2 MiB (huge pages) counts its statistics as the fl
     REQUIRE_MESSAGE(c.model, c.sink.render_all());
     const Grid g = grid_for(*c.model, 0, 129);
     const SignVolume volume = sign_render_volume(c.model->graph, c.model->root, g);
-    REQUIRE(volume.signs.size() == 2146689);
+    REQUIRE(volume.codes.size() == 2146689);
     const FieldStats a = field_stats(volume.expanded()), b = volume.stats();
     CHECK(a.invalid == b.invalid);
     CHECK(a.positive == b.positive);

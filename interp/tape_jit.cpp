@@ -15,6 +15,7 @@
 #include <cstring>
 #include <limits>
 #include <mutex>
+#include <tuple>
 #include <type_traits>
 
 namespace fortu {
@@ -81,6 +82,9 @@ struct CompiledTape<T>::Compiled {
     std::vector<std::pair<uint32_t, uint8_t>> operand_constants;
     std::vector<T> fixed_constants;   ///< entries before and after: masks, R-operation factors
     uint32_t slot_count = 0;
+    /// Pool entries of the uniforms' operands: (entry, uniform, negated).
+    std::vector<std::tuple<uint32_t, uint32_t, bool>> uniform_entries;
+    bool sites_read_uniforms = false;   ///< an operation handed back to the lane kernel reads one
 
     ~Compiled() {
         if (function) {
@@ -536,6 +540,13 @@ std::unique_ptr<CompiledTape<T>> CompiledTape<T>::compile(const Tape& tape, std:
             r_factor_values.push_back(T(1.0 + ins.imm));
         }
     }
+    std::vector<char> reads_uniform(tape.code.size(), 0);
+    for (const UniformUse& use : tape.uniform_uses) {
+        const OperandRef& ref = refs[use.instruction][use.operand + 1];
+        const bool negated = tape.code[use.instruction].op == ir::Op::Sub && use.operand == 1;
+        c.uniform_entries.emplace_back(ref.index, use.uniform, negated);
+        reads_uniform[use.instruction] = 1;
+    }
     const uint32_t r_base = uint32_t(kFixedCount + c.operand_constants.size());
     for (uint32_t& f : r_factors) f += r_base;
     c.fixed_constants.insert(c.fixed_constants.end(), r_factor_values.begin(), r_factor_values.end());
@@ -607,6 +618,7 @@ std::unique_ptr<CompiledTape<T>> CompiledTape<T>::compile(const Tape& tape, std:
             }
         }
         c.sites.push_back(Site{uint32_t(i), {refs[i][0], refs[i][1], refs[i][2], refs[i][3]}});
+        c.sites_read_uniforms = c.sites_read_uniforms || reads_uniform[i];
         e.call_site(&c.sites.back());
     }
     e.flush(tape.code.size());
@@ -629,16 +641,21 @@ template <class T>
 CompiledTape<T>::~CompiledTape() = default;
 
 template <class T>
+bool CompiledTape<T>::reads_code_constants(int lanes) const {
+    return compiled_->sites_read_uniforms || lanes % kChunkLanes != 0;
+}
+
+template <class T>
 void CompiledTape<T>::run(const Instruction* code, std::size_t count, T* const* slots, int lanes,
-                          JitScratch<T>& scratch, bool constants_changed) const {
+                          JitScratch<T>& scratch, bool constants_changed, const RowValues<T>* row) const {
     const Compiled& c = *compiled_;
     const std::size_t pool_size = (c.fixed_constants.size() + c.operand_constants.size()) * kVectorBytes / sizeof(T);
     if (scratch.constants.size() != pool_size) {
         scratch.constants.assign(pool_size, T(0));
         constants_changed = true;
     }
+    constexpr int kPerVector = kVectorBytes / int(sizeof(T));
     if (constants_changed || scratch.constants_of != code) {
-        constexpr int kPerVector = kVectorBytes / int(sizeof(T));
         T* pool = scratch.constants.data();
         const auto put = [&pool](T value) { pool = std::fill_n(pool, kPerVector, value); };
         for (std::size_t k = 0; k < kFixedCount; ++k) put(c.fixed_constants[k]);
@@ -648,6 +665,16 @@ void CompiledTape<T>::run(const Instruction* code, std::size_t count, T* const* 
         }
         for (std::size_t k = kFixedCount; k < c.fixed_constants.size(); ++k) put(c.fixed_constants[k]);
         scratch.constants_of = code;
+        scratch.uniforms_row = ~std::size_t{0};
+    }
+    // A row's values straight into the pool: patching them into the code first would touch
+    // a cache line of the code per use (prospero.vm: about 5% of its time).
+    if (row && scratch.uniforms_row != row->row) {
+        for (auto [entry, uniform, negated] : c.uniform_entries) {
+            const T value = row->values[uniform];
+            std::fill_n(scratch.constants.data() + std::size_t(entry) * kPerVector, kPerVector, negated ? -value : value);
+        }
+        scratch.uniforms_row = row->row;
     }
     const std::size_t chunks = std::size_t(lanes) / kChunkLanes;
     const std::size_t needed = (chunks * c.chunk_stride + 64) / sizeof(T);

@@ -37,6 +37,14 @@ struct JitScratch {
     std::vector<T> constants;
     std::vector<T*> tail_slots;
     const Instruction* constants_of = nullptr;   ///< the code `constants` was read from
+    std::size_t uniforms_row = ~std::size_t{0};  ///< the row RowValues last put in `constants`
+};
+
+/// One row's values of the tape's uniforms (TapeSpec::uniforms): `values[u]`.
+template <class T>
+struct RowValues {
+    std::span<const T> values;
+    std::size_t row = 0;   ///< which row: the values are put in only when it changes
 };
 
 template <class T>
@@ -58,8 +66,15 @@ public:
     /// `constants_changed` when its constants differ from those of the previous call with
     /// the same scratch. Slots the tape only uses inside (neither arguments, inputs,
     /// constants nor outputs) are not written.
+    ///
+    /// With `row`, the uniforms' constant operands are taken from it instead of from `code`,
+    /// which then need not be patched for the row, unless reads_code_constants(lanes).
     void run(const Instruction* code, std::size_t count, T* const* slots, int lanes, JitScratch<T>& scratch,
-             bool constants_changed) const;
+             bool constants_changed, const RowValues<T>* row = nullptr) const;
+
+    /// Whether run() over `lanes` lanes reads the uniforms' values from `code`: in the lanes
+    /// after the last whole chunk, or for an operation handed back to the lane kernel.
+    bool reads_code_constants(int lanes) const;
 
     struct Site;        ///< an instruction the compiled code hands back to the lane kernel
     struct Compiled;    ///< the machine code and what it reads

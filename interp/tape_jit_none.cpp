@@ -18,7 +18,13 @@ template <class T>
 CompiledTape<T>::~CompiledTape() = default;
 
 template <class T>
-void CompiledTape<T>::run(const Instruction*, std::size_t, T* const*, int, JitScratch<T>&, bool) const {}
+void CompiledTape<T>::run(const Instruction*, std::size_t, T* const*, int, JitScratch<T>&, bool,
+                          const RowValues<T>*) const {}
+
+template <class T>
+bool CompiledTape<T>::reads_code_constants(int) const {
+    return true;
+}
 
 template class CompiledTape<float>;
 template class CompiledTape<double>;

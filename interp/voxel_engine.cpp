@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 #include <type_traits>
 #include <vector>
 
@@ -186,6 +187,14 @@ void run_pass(const Pass<T>& pass, const Tiling& tiling, const EvalOptions& opti
     const Tile first_tile = tiling.tile(0);
     for (auto [slot, which] : tape.inputs) borrowed[slot] = pass.inputs[which].read_in_place(first_tile);
     const std::size_t own_slots = static_cast<std::size_t>(std::count(borrowed.begin(), borrowed.end(), 0));
+    // The per-row values row by row, for compiled code to read a row's at once.
+    std::vector<T> by_row;
+    if (compiled && !tape.uniform_uses.empty()) {
+        const std::size_t rows = static_cast<std::size_t>(grid.rows()) * grid.slices(), uniforms = pass.uniforms.size();
+        by_row.resize(rows * uniforms);
+        for (std::size_t u = 0; u < uniforms; ++u)
+            for (std::size_t r = 0; r < rows; ++r) by_row[r * uniforms + u] = pass.uniforms[u][r];
+    }
     std::vector<Workspace<T>> workspaces(worker_count(tiles, options));
     for (Workspace<T>& ws : workspaces) {
         ws.storage.assign(own_slots * kTileSize, T(0));
@@ -231,16 +240,25 @@ void run_pass(const Pass<T>& pass, const Tiling& tiling, const EvalOptions& opti
                 for (int l = 0; l < tile.lanes; ++l) lane_values[l] = T(source.per_point[tile.first_point + l]);
             }
         }
+        // The row's values are patched into the code for the lane loops; compiled code takes
+        // them straight from the per-row arrays where it reads no constant from the code.
+        const bool code_read = !compiled || compiled->reads_code_constants(tile.lanes);
         bool patched = false;
-        if (!tape.uniform_uses.empty() && tile.row != ws.patched_row) {
+        if (!tape.uniform_uses.empty() && code_read && tile.row != ws.patched_row) {
             for (const UniformUse& use : tape.uniform_uses)
                 ws.code[use.instruction].constant[use.operand] = double(pass.uniforms[use.uniform][tile.row]);
             ws.patched_row = tile.row;
             patched = true;
         }
         const std::vector<Instruction>& code = tape.uniform_uses.empty() ? tape.code : ws.code;
-        if (compiled) compiled->run(code.data(), code.size(), ws.slots.data(), tile.lanes, ws.jit, patched);
-        else run_code<T>(code, ws.slots.data(), tile.lanes);
+        if (compiled) {
+            const std::size_t uniforms = pass.uniforms.size();
+            const RowValues<T> row{std::span<const T>(by_row).subspan(tile.row * uniforms, uniforms), tile.row};
+            compiled->run(code.data(), code.size(), ws.slots.data(), tile.lanes, ws.jit, patched,
+                          by_row.empty() || code_read ? nullptr : &row);
+        } else {
+            run_code<T>(code, ws.slots.data(), tile.lanes);
+        }
         for (std::size_t k = 0; k < pass.outputs.size(); ++k) {
             const T* values = ws.slots[tape.outputs[k]];
             const OutputSink<T>& sink = pass.outputs[k];

@@ -245,3 +245,27 @@ TEST_CASE("compiled MIN, MAX and SELECT keep a NaN first operand where it can be
         CHECK(nans < std::ptrdiff_t(a.values.size()));
     }
 }
+
+TEST_CASE("compiled tapes take the per-row values from the rows' arrays or from the patched code, alike") {
+    if (!tape_jit_available()) return;
+    // 1536 columns: two tiles of 768 lanes a row, no tail, so compiled code reads the per-row
+    // values (Y-only nodes) from their arrays; Y * Y as the second operand of a subtraction is
+    // a negated pool entry. With ATAN2 (handed back to the lane kernel in float64), the code
+    // is patched as for the lane loops.
+    Grid wide;
+    wide.dims = 2;
+    wide.x = {-1.5, 1.5, 1536};
+    wide.y = {-1.2, 1.3, 40};
+    for (const char* text : {"ARGUMENT X, Y;\nRETURN MAX(X - Y * Y, 0.5 - Y) * MIN(X * X - COS(Y), Y + 0.25 - X);\n",
+                             "ARGUMENT X, Y;\nRETURN ATAN2(X + Y, Y * Y + 1) + MAX(X - Y * Y, 0.5 - Y);\n"}) {
+        auto c = test::compile_text(text);
+        REQUIRE_MESSAGE(c.model, c.sink.render_all());
+        for (Precision precision : {Precision::Float64, Precision::Float32}) {
+            CAPTURE(text);
+            CAPTURE(int(precision));
+            const auto [a, b] = compiled_and_lanes(*c.model, wide, precision);
+            CHECK(same_values(a.values, b.values));
+            CHECK(std::adjacent_find(a.values.begin(), a.values.end(), std::not_equal_to<>()) != a.values.end());
+        }
+    }
+}

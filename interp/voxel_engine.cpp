@@ -241,7 +241,7 @@ void run_pass(const Pass<T>& pass, const Tiling& tiling, const EvalOptions& opti
             }
         }
         // The row's values are patched into the code for the lane loops; compiled code takes
-        // them straight from the per-row arrays where it reads no constant from the code.
+        // them from `by_row` straight into its constant pool where it reads none from the code.
         const bool code_read = !compiled || compiled->reads_code_constants(tile.lanes);
         bool patched = false;
         if (!tape.uniform_uses.empty() && code_read && tile.row != ws.patched_row) {

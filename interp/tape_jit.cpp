@@ -116,8 +116,11 @@ void run_site(const Context<T>* context, const SiteOf<T>* site, std::size_t exte
     constexpr int kLanes = CompiledTape<T>::kChunkLanes;
     T* lanes[4];
     for (int k = 0; k < 4; ++k) {
+        // A constant operand's index is a pool entry, no slot: the kernel reads the
+        // instruction's own constant instead of its lanes.
         const OperandRef& ref = site->refs[k];
-        lanes[k] = ref.place == Place::internal
+        lanes[k] = ref.place == Place::constant ? nullptr
+                   : ref.place == Place::internal
                        ? context->scratch + internal_offset / sizeof(T) + std::size_t(ref.index) * kLanes
                        : context->slots[ref.index] + external_offset / sizeof(T);
     }

@@ -184,6 +184,15 @@ TEST_CASE("compiled tapes read constants changed between runs, as the per-row va
 
 namespace {
 
+/// A 2D grid of `cols` × `rows` nodes over [x0, x1] × [y0, y1].
+Grid plane_grid(double x0, double x1, int cols, double y0, double y1, int rows) {
+    Grid g;
+    g.dims = 2;
+    g.x = {x0, x1, cols};
+    g.y = {y0, y1, rows};
+    return g;
+}
+
 /// The field of `model` on `grid`, compiled (whatever the size) and through the lane loops.
 std::pair<Field, Field> compiled_and_lanes(const Model& model, const Grid& grid, Precision precision) {
     const VoxelEngine compiled({.precision = precision, .compile_above_lane_operations = 0});
@@ -202,10 +211,7 @@ TEST_CASE("the voxel engine compiled and through its lane loops: the same field,
                        "FOR I = 1, 40\n  A = (A & (B - I / 100)) | (0.3 - ABS(X - I / 40));\nEND FOR\nRETURN A;\n";
     auto c = test::compile_text(text);
     REQUIRE_MESSAGE(c.model, c.sink.render_all());
-    Grid plane;
-    plane.dims = 2;
-    plane.x = {-1.5, 1.5, 1000};
-    plane.y = {-1.2, 1.3, 600};
+    const Grid plane = plane_grid(-1.5, 1.5, 1000, -1.2, 1.3, 600);
     Grid cube;   // 3D: tiles of whole rows, values per XY and XZ plane
     cube.dims = 3;
     cube.x = cube.y = cube.z = {-1.1, 1.2, 45};
@@ -232,10 +238,7 @@ TEST_CASE("compiled MIN, MAX and SELECT keep a NaN first operand where it can be
                        "C = MIN(SQRT(Y + 0.2), B);\nRETURN MAX(MAX(A, B) - 0.1, C);\n";
     auto c = test::compile_text(text);
     REQUIRE_MESSAGE(c.model, c.sink.render_all());
-    Grid plane;
-    plane.dims = 2;
-    plane.x = {-1.5, 1.5, 300};
-    plane.y = {-1.2, 1.3, 200};
+    const Grid plane = plane_grid(-1.5, 1.5, 300, -1.2, 1.3, 200);
     for (Precision precision : {Precision::Float64, Precision::Float32}) {
         CAPTURE(int(precision));
         const auto [a, b] = compiled_and_lanes(*c.model, plane, precision);
@@ -252,10 +255,7 @@ TEST_CASE("compiled tapes take the per-row values from the rows' arrays or from 
     // values (Y-only nodes) from their arrays; Y * Y as the second operand of a subtraction is
     // a negated pool entry. With ATAN2 (handed back to the lane kernel in float64), the code
     // is patched as for the lane loops.
-    Grid wide;
-    wide.dims = 2;
-    wide.x = {-1.5, 1.5, 1536};
-    wide.y = {-1.2, 1.3, 40};
+    const Grid wide = plane_grid(-1.5, 1.5, 1536, -1.2, 1.3, 40);
     for (const char* text : {"ARGUMENT X, Y;\nRETURN MAX(X - Y * Y, 0.5 - Y) * MIN(X * X - COS(Y), Y + 0.25 - X);\n",
                              "ARGUMENT X, Y;\nRETURN ATAN2(X + Y, Y * Y + 1) + MAX(X - Y * Y, 0.5 - Y);\n"}) {
         auto c = test::compile_text(text);

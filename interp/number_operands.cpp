@@ -28,8 +28,7 @@ double rounded_up(double bound) { return bound * (1.0 + 0x1p-22); }
 
 Facts constant_facts(double value) {
     Facts f;
-    f.range = {value, value, std::isnan(value)};
-    if (std::isnan(value)) f.range = kUnknownInterval;
+    f.range = std::isnan(value) ? kUnknownInterval : Interval{value, value, false};
     f.magnitude = rounded_up(std::fabs(value));
     f.number32 = std::isfinite(value);
     f.nonnegative32 = value >= 0;

@@ -262,12 +262,13 @@ public:
                 for (int v = 0; v < kVectors<T>; ++v) store(out, v, group_register(group, v));
         };
         const x86::Ymm t8 = x86::ymm(8), t9 = x86::ymm(9), t10 = x86::ymm(10), t11 = x86::ymm(11);
-        // The first operand in a register, in t10 if it is not held; a constant is loaded once
-        // for the four vectors (the instruction must leave t10 alone).
-        const auto first = [&](int v) {
-            if (in[0].place == Place::constant && v > 0) return t10;
-            return in_register(in[0], 1, v, t10);
+        // Operand k in a register, in t10 if it is not held; a constant is loaded once for the
+        // four vectors (the instruction must leave t10 alone).
+        const auto in_t10 = [&](int k, int v) {
+            if (in[k].place == Place::constant && v > 0) return t10;
+            return in_register(in[k], k + 1, v, t10);
         };
+        const auto first = [&](int v) { return in_t10(0, v); };
         const InstId add = id(x86::Inst::kIdVaddps, x86::Inst::kIdVaddpd);
         const InstId sub = id(x86::Inst::kIdVsubps, x86::Inst::kIdVsubpd);
         const InstId mul = id(x86::Inst::kIdVmulps, x86::Inst::kIdVmulpd);
@@ -285,12 +286,8 @@ public:
             prepare(refs, 3);
             const bool swap = group_of(in[0]) < 0 && (group_of(in[1]) >= 0 ||
                                                       (in[1].place == Place::constant && in[0].place != Place::constant));
-            const OperandRef& x = swap ? in[1] : in[0];
-            const OperandRef& y = swap ? in[0] : in[1];
-            each_vector([&](int v, const x86::Ymm& r) {
-                const x86::Ymm held = x.place == Place::constant && v > 0 ? t10 : in_register(x, swap ? 2 : 1, v, t10);
-                a_.emit(op, r, held, source(y, swap ? 1 : 2, v));
-            });
+            const int x = swap ? 1 : 0, y = 1 - x;
+            each_vector([&](int v, const x86::Ymm& r) { a_.emit(op, r, in_t10(x, v), source(in[y], y + 1, v)); });
         };
         const auto with_mask = [&](InstId op, uint32_t mask) {  // r = mask op a
             prepare(refs, 2);
@@ -545,9 +542,9 @@ std::unique_ptr<CompiledTape<T>> CompiledTape<T>::compile(const Tape& tape, std:
     }
     std::vector<char> reads_uniform(tape.code.size(), 0);
     for (const UniformUse& use : tape.uniform_uses) {
-        const OperandRef& ref = refs[use.instruction][use.operand + 1];
-        const bool negated = tape.code[use.instruction].op == ir::Op::Sub && use.operand == 1;
-        c.uniform_entries.emplace_back(ref.index, use.uniform, negated);
+        const uint32_t entry = refs[use.instruction][use.operand + 1].index;
+        const bool negated = c.operand_constants[entry - kFixedCount].second & kNegated;
+        c.uniform_entries.emplace_back(entry, use.uniform, negated);
         reads_uniform[use.instruction] = 1;
     }
     const uint32_t r_base = uint32_t(kFixedCount + c.operand_constants.size());

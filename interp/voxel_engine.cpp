@@ -144,12 +144,14 @@ struct Pass {
     const Tape& tape;
     const Grid& grid;                       ///< coordinates of the points (argument slots)
     std::vector<InputSource<T>> inputs;     ///< by TapeSpec::inputs index
-    std::vector<const T*> uniforms;         ///< by TapeSpec::uniforms index: one value per row
+    /// Row by row: row r's value of spec.uniforms[u] at r × spec.uniforms.size() + u, so
+    /// that a row's values are read together (patched into the code, or compiled code's pool).
+    std::vector<T> uniforms;
     std::vector<OutputSink<T>> outputs;     ///< by TapeSpec::outputs index
     /// What the tape was compiled from, for number_operands; the first `opaque_inputs`
     /// inputs hold values kept from elsewhere.
-    const Graph* graph = nullptr;
-    const TapeSpec* spec = nullptr;
+    const Graph& graph;
+    const TapeSpec& spec;
     std::size_t opaque_inputs = 0;
 };
 
@@ -172,11 +174,9 @@ void run_pass(const Pass<T>& pass, const Tiling& tiling, const EvalOptions& opti
     const std::size_t tiles = tiling.count();
     std::unique_ptr<CompiledTape<T>> compiled;
     if (engine.compile && double(tape.code.size()) * double(grid.points()) >= engine.compile_above_lane_operations) {
-        std::vector<uint8_t> numbers;
-        if (pass.graph)
-            numbers = number_operands(*pass.graph, *pass.spec, tape, grid,
-                                      std::is_same_v<T, float> ? Precision::Float32 : Precision::Float64,
-                                      pass.opaque_inputs);
+        const std::vector<uint8_t> numbers =
+            number_operands(pass.graph, pass.spec, tape, grid,
+                            std::is_same_v<T, float> ? Precision::Float32 : Precision::Float64, pass.opaque_inputs);
         compiled = CompiledTape<T>::compile(tape, numbers);
     }
 
@@ -187,14 +187,6 @@ void run_pass(const Pass<T>& pass, const Tiling& tiling, const EvalOptions& opti
     const Tile first_tile = tiling.tile(0);
     for (auto [slot, which] : tape.inputs) borrowed[slot] = pass.inputs[which].read_in_place(first_tile);
     const std::size_t own_slots = static_cast<std::size_t>(std::count(borrowed.begin(), borrowed.end(), 0));
-    // The per-row values row by row, for compiled code to read a row's at once.
-    std::vector<T> by_row;
-    if (compiled && !tape.uniform_uses.empty()) {
-        const std::size_t rows = static_cast<std::size_t>(grid.rows()) * grid.slices(), uniforms = pass.uniforms.size();
-        by_row.resize(rows * uniforms);
-        for (std::size_t u = 0; u < uniforms; ++u)
-            for (std::size_t r = 0; r < rows; ++r) by_row[r * uniforms + u] = pass.uniforms[u][r];
-    }
     std::vector<Workspace<T>> workspaces(worker_count(tiles, options));
     for (Workspace<T>& ws : workspaces) {
         ws.storage.assign(own_slots * kTileSize, T(0));
@@ -241,21 +233,23 @@ void run_pass(const Pass<T>& pass, const Tiling& tiling, const EvalOptions& opti
             }
         }
         // The row's values are patched into the code for the lane loops; compiled code takes
-        // them from `by_row` straight into its constant pool where it reads none from the code.
+        // them straight into its constant pool where it reads none from the code.
         const bool code_read = !compiled || compiled->reads_code_constants(tile.lanes);
+        const std::size_t uniform_count = pass.spec.uniforms.size();
+        const std::span<const T> row_values =
+            std::span<const T>(pass.uniforms).subspan(tile.row * uniform_count, uniform_count);
         bool patched = false;
         if (!tape.uniform_uses.empty() && code_read && tile.row != ws.patched_row) {
             for (const UniformUse& use : tape.uniform_uses)
-                ws.code[use.instruction].constant[use.operand] = double(pass.uniforms[use.uniform][tile.row]);
+                ws.code[use.instruction].constant[use.operand] = double(row_values[use.uniform]);
             ws.patched_row = tile.row;
             patched = true;
         }
         const std::vector<Instruction>& code = tape.uniform_uses.empty() ? tape.code : ws.code;
         if (compiled) {
-            const std::size_t uniforms = pass.uniforms.size();
-            const RowValues<T> row{std::span<const T>(by_row).subspan(tile.row * uniforms, uniforms), tile.row};
+            const RowValues<T> row{row_values, tile.row};
             compiled->run(code.data(), code.size(), ws.slots.data(), tile.lanes, ws.jit, patched,
-                          by_row.empty() || code_read ? nullptr : &row);
+                          tape.uniform_uses.empty() || code_read ? nullptr : &row);
         } else {
             run_code<T>(code, ws.slots.data(), tile.lanes);
         }
@@ -277,7 +271,7 @@ std::vector<std::vector<T>> evaluate_nodes(const Graph& graph, const std::vector
     if (nodes.empty()) return values;
     const TapeSpec spec{nodes, {}, {}};
     const Tape tape = compile_tape(graph, spec);
-    Pass<T> pass{tape, grid, {}, {}, {}, &graph, &spec, 0};
+    Pass<T> pass{tape, grid, {}, {}, {}, graph, spec, 0};
     for (std::vector<T>& v : values) pass.outputs.push_back({nullptr, v.data()});
     EvalOptions quiet = options;
     quiet.progress = nullptr;
@@ -332,7 +326,7 @@ void evaluate(const Graph& graph, NodeId root, Field& field, const EvalOptions& 
 
     Tiling tiling = Tiling::flat(grid.points());
     std::vector<std::vector<T>> column_values, row_values, xy_values, xz_values;
-    std::vector<const T*> uniforms;
+    std::vector<T> uniforms;
     if (engine.hoist && grid.cols() >= kMinHoistColumns) {
         const HoistPlan plan = fitting_plan<T>(graph, spec, grid);
         Grid columns = grid;   // one row: the X of each column
@@ -374,11 +368,16 @@ void evaluate(const Graph& graph, NodeId root, Field& field, const EvalOptions& 
                          {.row_stride = 1, .slice_stride = static_cast<std::size_t>(grid.rows()), .per_row_value = true});
         } else {
             spec.uniforms = plan.row_nodes;
-            for (const std::vector<T>& v : row_values) uniforms.push_back(v.data());
+            const std::size_t count = row_values.size(), rows_in_grid = row_values.empty() ? 0 : row_values[0].size();
+            uniforms.resize(count * rows_in_grid);
+            for (std::size_t u = 0; u < count; ++u) {
+                for (std::size_t r = 0; r < rows_in_grid; ++r) uniforms[r * count + u] = row_values[u][r];
+                std::vector<T>().swap(row_values[u]);   // one copy of them at a time
+            }
         }
     }
     const Tape tape = compile_tape(graph, spec);
-    run_pass(Pass<T>{tape, grid, std::move(inputs), std::move(uniforms), std::move(outputs), &graph, &spec, opaque_inputs},
+    run_pass(Pass<T>{tape, grid, std::move(inputs), std::move(uniforms), std::move(outputs), graph, spec, opaque_inputs},
              tiling, options, engine);
 }
 

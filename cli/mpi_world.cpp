@@ -1,10 +1,15 @@
-// cli/mpi_world.cpp — World over MPI when built with it (FORTU_HAVE_MPI), else one process.
+// cli/mpi_world.cpp — World over the MPI plug-in when launched by mpirun, else one process.
 #include "cli/mpi_world.hpp"
 
-#include <cstdlib>
+#include "cli/mpi_module.hpp"
+#include "runtime/plugin_loader.hpp"
 
-#ifdef FORTU_HAVE_MPI
-#include <mpi.h>
+#include <cstdlib>
+#include <fmt/format.h>
+#include <iostream>
+
+#ifndef FORTU_MPI_MODULE_BUILD_PATH
+#define FORTU_MPI_MODULE_BUILD_PATH ""
 #endif
 
 namespace fortu {
@@ -15,85 +20,53 @@ World& World::get() {
 }
 
 World::World() {
-#ifdef FORTU_HAVE_MPI
     if (std::getenv("OMPI_COMM_WORLD_SIZE") == nullptr) return;
-    int provided = 0;
-    MPI_Init_thread(nullptr, nullptr, MPI_THREAD_SERIALIZED, &provided);
-    initialised_ = true;
-    MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
-    MPI_Comm_size(MPI_COMM_WORLD, &size_);
-#endif
+    static LazyPlugin plugin({"libfortu_mpi.so", "FORTU_MPI_MODULE", FORTU_MPI_MODULE_BUILD_PATH, "fortu_mpi_module",
+                              "(fortu builds it next to its binary when Open MPI is installed: apt-get install "
+                              "libopenmpi-dev openmpi-bin, then rebuild)",
+                              kMpiModuleVersion, /*global=*/true});
+    std::string error;
+    const auto* mpi = static_cast<const MpiModule*>(plugin.get(error));
+    if (mpi) error = mpi->init(rank_, size_);
+    if (!error.empty()) {
+        // Started by mpirun, every rank would compute the whole run alone and write the same files.
+        std::cerr << fmt::format("fortu: error: started by mpirun, but MPI is not available: {}\n", error);
+        std::exit(1);
+    }
+    mpi_ = mpi;
 }
 
 World::~World() {
-#ifdef FORTU_HAVE_MPI
-    if (initialised_) MPI_Finalize();
-#endif
+    if (mpi_) mpi_->finalize();
 }
 
 void World::barrier() {
-#ifdef FORTU_HAVE_MPI
-    if (initialised_) MPI_Barrier(MPI_COMM_WORLD);
-#endif
+    if (mpi_) mpi_->barrier();
 }
 
 void World::abort(int status) {
-#ifdef FORTU_HAVE_MPI
-    if (initialised_) MPI_Abort(MPI_COMM_WORLD, status);
-#endif
+    if (mpi_) mpi_->abort(status);
     std::exit(status);
 }
 
 std::vector<double> World::gather(const std::vector<double>& values) {
-#ifdef FORTU_HAVE_MPI
-    if (initialised_) {
-        std::vector<double> all(rank_ == 0 ? values.size() * size_ : 0);
-        MPI_Gather(values.data(), int(values.size()), MPI_DOUBLE, all.data(), int(values.size()), MPI_DOUBLE, 0,
-                   MPI_COMM_WORLD);
-        return all;
-    }
-#endif
-    return values;
+    if (!mpi_) return values;
+    std::vector<double> all(rank_ == 0 ? values.size() * size_ : 0);
+    mpi_->gather(values.data(), int(values.size()), all.data());
+    return all;
 }
 
 World::Counter::Counter(World& world) : world_(world) {
-#ifdef FORTU_HAVE_MPI
-    if (world.initialised_) {
-        MPI_Win win;
-        MPI_Win_allocate(world.rank_ == 0 ? sizeof(std::int64_t) : 0, sizeof(std::int64_t), MPI_INFO_NULL,
-                         MPI_COMM_WORLD, &base_, &win);
-        if (world.rank_ == 0) *base_ = 0;
-        window_ = new MPI_Win(win);
-        MPI_Barrier(MPI_COMM_WORLD);   // the counter is 0 before anyone draws
-        MPI_Win_lock_all(0, win);
-    }
-#endif
+    if (world.mpi_) shared_ = world.mpi_->counter_create();
 }
 
 World::Counter::~Counter() {
-#ifdef FORTU_HAVE_MPI
-    if (window_) {
-        MPI_Win* win = static_cast<MPI_Win*>(window_);
-        MPI_Win_unlock_all(*win);
-        MPI_Win_free(win);
-        delete win;
-    }
-#endif
+    if (shared_) world_.mpi_->counter_free(shared_);
 }
 
 std::uint64_t World::Counter::next() {
     std::lock_guard lock(world_.mpi_mutex());
-#ifdef FORTU_HAVE_MPI
-    if (window_) {
-        const std::int64_t one = 1;
-        std::int64_t got = 0;
-        MPI_Win& win = *static_cast<MPI_Win*>(window_);
-        MPI_Fetch_and_op(&one, &got, MPI_INT64_T, 0, 0, MPI_SUM, win);
-        MPI_Win_flush(0, win);
-        return std::uint64_t(got);
-    }
-#endif
-    return local_++;
+    return shared_ ? world_.mpi_->counter_next(shared_) : local_++;
 }
 
 }  // namespace fortu

@@ -1,9 +1,10 @@
 // cli/mpi_world.hpp — the processes of a run: this one alone, or the ranks of an `mpirun`
 // job, with the few collective steps a bricked run needs.
 //
-// Why here and this small: MPI is started only when Open MPI's launcher started us
-// (OMPI_COMM_WORLD_SIZE is set), so a plain `fortu run` pays nothing for it; a build without
-// MPI (-DFORTU_MPI=OFF, or no libopenmpi-dev) has the same interface with one process.
+// Why here and this small: MPI is loaded (the plug-in libfortu_mpi.so, mpi_module.hpp) and
+// started only when Open MPI's launcher started us (OMPI_COMM_WORLD_SIZE is set), so a plain
+// `fortu run` pays nothing for it; a build without MPI (-DFORTU_MPI=OFF, or no
+// libopenmpi-dev) has the same interface with one process.
 #pragma once
 
 #include <cstddef>
@@ -12,6 +13,8 @@
 #include <vector>
 
 namespace fortu {
+
+struct MpiModule;
 
 class World {
 public:
@@ -47,8 +50,7 @@ public:
 
     private:
         World& world_;
-        void* window_ = nullptr;      ///< MPI_Win, when distributed
-        std::int64_t* base_ = nullptr;
+        void* shared_ = nullptr;      ///< the plug-in's counter, when distributed
         std::uint64_t local_ = 0;     ///< alone: a plain counter
     };
 
@@ -57,7 +59,7 @@ private:
     ~World();
     int rank_ = 0;
     int size_ = 1;
-    bool initialised_ = false;
+    const MpiModule* mpi_ = nullptr;   ///< set once MPI is initialised
     std::mutex mpi_mutex_;
 };
 

@@ -2,8 +2,8 @@
 # finds its parts in, relative to its own executable (cli/data_paths.hpp,
 # runtime/plugin_loader.hpp), so any prefix and any copy of the tree works:
 #   bin/fortu
-#   LIBDIR/fortu/libfortu_image.so, libfortu_vdb.so  the plug-ins (lib/fortu, or
-#                                                    lib/x86_64-linux-gnu/fortu for /usr)
+#   LIBDIR/fortu/libfortu_image.so, libfortu_vdb.so, the plug-ins (lib/fortu, or
+#     libfortu_hdf5.so, libfortu_mpi.so              lib/x86_64-linux-gnu/fortu for /usr)
 #   share/fortu/stdlib, examples, bench/models        the data folders
 #   share/man/man1/fortu.1.gz                         help2man on the built binary + every command's --help
 #                                                    (gzip -9n, as Debian's policy has installed man pages)
@@ -12,9 +12,11 @@
 # which its option tables write, so they cannot drift from what it accepts.
 install(TARGETS fortu RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(TARGETS fortu_image LIBRARY DESTINATION ${FORTU_PLUGIN_INSTALL_DIR})
-if(TARGET fortu_vdb)
-  install(TARGETS fortu_vdb LIBRARY DESTINATION ${FORTU_PLUGIN_INSTALL_DIR})
-endif()
+foreach(plugin fortu_vdb fortu_hdf5 fortu_mpi)
+  if(TARGET ${plugin})
+    install(TARGETS ${plugin} LIBRARY DESTINATION ${FORTU_PLUGIN_INSTALL_DIR})
+  endif()
+endforeach()
 
 find_package(Python3 COMPONENTS Interpreter)
 find_program(FORTU_HELP2MAN help2man)

@@ -25,7 +25,7 @@ std::vector<std::string> plugin_candidates(const std::string& file_name) {
 }
 
 void* load_plugin_entry(const std::string& file_name, const char* env_variable, const std::string& build_path,
-                        const char* entry, const std::string& missing_hint, std::string& error) {
+                        const char* entry, const std::string& missing_hint, std::string& error, bool global) {
     std::vector<std::string> candidates;
     if (const char* env = std::getenv(env_variable)) candidates.emplace_back(env);
     for (std::string& path : plugin_candidates(file_name)) candidates.push_back(std::move(path));
@@ -34,7 +34,7 @@ void* load_plugin_entry(const std::string& file_name, const char* env_variable, 
     std::error_code ec;
     for (const std::string& path : candidates) {
         if (!std::filesystem::exists(path, ec)) continue;
-        void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+        void* handle = dlopen(path.c_str(), RTLD_NOW | (global ? RTLD_GLOBAL : RTLD_LOCAL));
         if (!handle) {
             error = "cannot load " + path + ": " + dlerror();
             continue;
@@ -46,6 +46,19 @@ void* load_plugin_entry(const std::string& file_name, const char* env_variable, 
     }
     if (error.empty()) error = "cannot find " + file_name + " " + missing_hint;
     return nullptr;
+}
+
+const void* LazyPlugin::get(std::string& error) {
+    std::call_once(once_, [this] {
+        const void* table = load_plugin_entry(spec_.file_name, spec_.env_variable, spec_.build_path, spec_.entry,
+                                              spec_.missing_hint, error_, spec_.global);
+        if (table && *static_cast<const int*>(table) != spec_.version)
+            error_ = std::string(spec_.file_name) + " is from another build of fortu";
+        else
+            table_ = table;
+    });
+    error = error_;
+    return table_;
 }
 
 }  // namespace fortu

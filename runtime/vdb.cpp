@@ -5,8 +5,6 @@
 #include "runtime/output_error.hpp"
 #include "runtime/plugin_loader.hpp"
 
-#include <mutex>
-
 #ifndef FORTU_VDB_MODULE_BUILD_PATH
 #define FORTU_VDB_MODULE_BUILD_PATH ""
 #endif
@@ -14,19 +12,11 @@
 namespace fortu {
 
 const VdbModule* vdb_module(std::string& error) {
-    static std::once_flag once;
-    static const VdbModule* module = nullptr;
-    static std::string load_error;
-    std::call_once(once, [] {
-        auto* m = static_cast<const VdbModule*>(load_plugin_entry(
-            "libfortu_vdb.so", "FORTU_VDB_MODULE", FORTU_VDB_MODULE_BUILD_PATH, "fortu_vdb_module",
-            "(fortu builds it next to its binary when OpenVDB is installed: apt-get install libopenvdb-dev, "
-            "then rebuild)", load_error));
-        if (m && m->version != kVdbModuleVersion) load_error = "libfortu_vdb.so is from another build of fortu";
-        else module = m;
-    });
-    error = load_error;
-    return module;
+    static LazyPlugin plugin({"libfortu_vdb.so", "FORTU_VDB_MODULE", FORTU_VDB_MODULE_BUILD_PATH, "fortu_vdb_module",
+                              "(fortu builds it next to its binary when OpenVDB is installed: apt-get install "
+                              "libopenvdb-dev, then rebuild)",
+                              kVdbModuleVersion});
+    return static_cast<const VdbModule*>(plugin.get(error));
 }
 
 void write_vdb(const Field& field, const OutputTarget& target, const OutputOptions& options) {

@@ -18,7 +18,9 @@ for f in bin/fortu "$plugins/libfortu_image.so" share/fortu/stdlib/shapes.fortu 
          share/man/man1/fortu.1.gz share/bash-completion/completions/fortu share/zsh/vendor-completions/_fortu; do
   [ -f "$usr/$f" ] || fail "missing $f"
 done
-if [ -f "$build/libfortu_vdb.so" ]; then [ -f "$usr/$plugins/libfortu_vdb.so" ] || fail "missing libfortu_vdb.so"; fi
+for plugin in libfortu_vdb.so libfortu_hdf5.so libfortu_mpi.so; do
+  if [ -f "$build/$plugin" ]; then [ -f "$usr/$plugins/$plugin" ] || fail "missing $plugin"; fi
+done
 
 fortu="$usr/bin/fortu"
 work="$stage/work"

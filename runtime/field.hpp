@@ -4,6 +4,7 @@
 #pragma once
 
 #include "runtime/grid.hpp"
+#include "runtime/zeroed_pages.hpp"
 
 #include <cmath>
 #include <cstddef>
@@ -14,6 +15,15 @@ namespace fortu {
 struct Field {
     Grid grid;
     std::vector<double> values;   ///< grid.points() values in image order
+
+    /// A field of `grid` with every value `fill`; a large one in transparent huge pages.
+    static Field filled(const Grid& grid, double fill) {
+        Field field{grid, {}};
+        field.values.reserve(grid.points());
+        advise_huge_pages(field.values.data(), grid.points() * sizeof(double));
+        field.values.assign(grid.points(), fill);
+        return field;
+    }
 
     std::size_t invalid_count() const {
         std::size_t n = 0;

@@ -7,7 +7,6 @@
 
 #include <asmjit/x86.h>
 #if defined(__AVX2__)
-#include <sleef.h>
 #endif
 
 #include <algorithm>
@@ -130,20 +129,13 @@ void run_site(const Context<T>* context, const SiteOf<T>* site, std::size_t exte
     run_lanes<T, kLanes>(&ins, 1, lanes, kLanes);
 }
 
-/// SLEEF's 8-lane function for a float32 operation, the one vector_math's AVX2 kernels call
-/// (vector_math.def), or nullptr. Only while vector_math runs its AVX2 table: the AVX-512
-/// functions need not round the same.
+/// The 8-lane function for a float32 operation (SLEEF's or fortu's own), the one
+/// vector_math's AVX2 kernels call (vector_math.def), or nullptr. Only while vector_math runs
+/// its AVX2 table: the AVX-512 kernels' SLEEF functions need not round the same.
 void* float_vector_function(ir::Op op) {
 #if defined(__AVX2__)
     if (vector_math::active_isa() != vector_math::Isa::avx2) return nullptr;
-    switch (op) {
-#define FORTU_VECTOR_MATH_1(name, sleef, accuracy, ulp, lo, hi) \
-    case ir::Op::name: return reinterpret_cast<void*>(&Sleef_##sleef##f8_##accuracy##avx2);
-#define FORTU_VECTOR_MATH_2(name, sleef, accuracy, ulp, lo, hi) \
-    case ir::Op::name: return reinterpret_cast<void*>(&Sleef_##sleef##f8_##accuracy##avx2);
-#include "interp/vector_math.def"
-    default: return nullptr;
-    }
+    return vector_math::avx2_vector_function(op);
 #else
     (void)op;
     return nullptr;

@@ -12,8 +12,8 @@ namespace {
 constexpr std::array<int, ir::kOpCount> slot_of_op() {
     std::array<int, ir::kOpCount> slot{};
     slot.fill(-1);
-#define FORTU_VECTOR_MATH_1(op, sleef, accuracy, ulp, lo, hi) slot[static_cast<int>(ir::Op::op)] = k##op;
-#define FORTU_VECTOR_MATH_2(op, sleef, accuracy, ulp, lo, hi) slot[static_cast<int>(ir::Op::op)] = k##op;
+#define FORTU_VECTOR_MATH_1(op, name, library, accuracy, ulp, lo, hi) slot[static_cast<int>(ir::Op::op)] = k##op;
+#define FORTU_VECTOR_MATH_2(op, name, library, accuracy, ulp, lo, hi) slot[static_cast<int>(ir::Op::op)] = k##op;
 #include "interp/vector_math.def"
     return slot;
 }
@@ -79,6 +79,16 @@ bool run_float(ir::Op op, const float* a, const float* b, float ka, float kb, un
     if (table == nullptr || slot < 0) return false;
     table[slot](a, b, ka, kb, constant_mask, out, lanes);
     return true;
+}
+
+void* avx2_vector_function(ir::Op op) {
+#if defined(FORTU_VECTOR_MATH_AVX2)
+    const int slot = kSlotOfOp[static_cast<int>(op)];
+    return slot < 0 ? nullptr : kAvx2VectorFunctions[slot];
+#else
+    (void)op;
+    return nullptr;
+#endif
 }
 
 }  // namespace fortu::vector_math

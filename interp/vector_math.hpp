@@ -1,8 +1,9 @@
-// interp/vector_math.hpp — float32 transcendentals on whole lane arrays with SLEEF's vector
-// functions (the ops of vector_math.def), on the widest instruction set this CPU has:
-// AVX-512 where it exists, AVX2 + FMA otherwise, chosen once at run time. Why: a lane loop
-// that calls libm once per lane spends most of its time there (bear.vm: 29 exp and 8 log
-// per point); SLEEF computes 8 or 16 lanes in about the time libm takes for one.
+// interp/vector_math.hpp — float32 transcendentals on whole lane arrays with vector
+// functions (the ops of vector_math.def: SLEEF's, or fortu's own for exp and ln), on the
+// widest instruction set this CPU has: AVX-512 where it exists, AVX2 + FMA otherwise, chosen
+// once at run time. Why: a lane loop that calls libm once per lane spends most of its time
+// there (bear.vm: 29 exp and 8 log per point); a vector function computes 8 or 16 lanes in
+// about the time libm takes for one.
 // float64 does not come here: it keeps libm on every path (vector_math.def says why).
 #pragma once
 
@@ -15,8 +16,8 @@ enum class Isa { none, avx2, avx512 };
 /// Whether `op` is in vector_math.def (its float32 lane loop may come here).
 constexpr bool has_vector_kernel(ir::Op op) {
     switch (op) {
-#define FORTU_VECTOR_MATH_1(op, sleef, accuracy, ulp, lo, hi) case ir::Op::op:
-#define FORTU_VECTOR_MATH_2(op, sleef, accuracy, ulp, lo, hi) case ir::Op::op:
+#define FORTU_VECTOR_MATH_1(op, name, library, accuracy, ulp, lo, hi) case ir::Op::op:
+#define FORTU_VECTOR_MATH_2(op, name, library, accuracy, ulp, lo, hi) case ir::Op::op:
 #include "interp/vector_math.def"
         return true;
     default:
@@ -39,5 +40,10 @@ const char* isa_name(Isa isa);
 /// vector ISA is active: the caller runs its own lane loop.
 bool run_float(ir::Op op, const float* a, const float* b, float ka, float kb, unsigned constant_mask,
                float* out, int lanes);
+
+/// The function run_float's AVX2 kernel applies to each vector of 8 lanes (operands in ymm0
+/// and ymm1, result in ymm0), for the compiled tapes; nullptr when `op` has none or this
+/// build has no AVX2 kernels.
+void* avx2_vector_function(ir::Op op);
 
 }  // namespace fortu::vector_math

@@ -9,8 +9,8 @@ namespace fortu::vector_math {
 
 /// One entry per line of vector_math.def, in its order.
 enum Slot : int {
-#define FORTU_VECTOR_MATH_1(op, sleef, accuracy, ulp, lo, hi) k##op,
-#define FORTU_VECTOR_MATH_2(op, sleef, accuracy, ulp, lo, hi) k##op,
+#define FORTU_VECTOR_MATH_1(op, name, library, accuracy, ulp, lo, hi) k##op,
+#define FORTU_VECTOR_MATH_2(op, name, library, accuracy, ulp, lo, hi) k##op,
 #include "interp/vector_math.def"
     kSlotCount
 };
@@ -22,5 +22,8 @@ using Kernel = void (*)(const float* a, const float* b, float ka, float kb, unsi
 
 extern const Kernel kAvx2Kernels[kSlotCount];
 extern const Kernel kAvx512Kernels[kSlotCount];
+/// Each op's function on one AVX2 vector (SysV: operands in ymm0, ymm1, result in ymm0),
+/// the one kAvx2Kernels calls, for the compiled tapes.
+extern void* const kAvx2VectorFunctions[kSlotCount];
 
 }  // namespace fortu::vector_math

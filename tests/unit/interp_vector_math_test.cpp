@@ -1,7 +1,9 @@
-// tests/unit/interp_vector_math_test.cpp — SLEEF's float32 vector kernels (vector_math.def)
-// against libm over each op's argument sweep, within the ULP bound the list states, on every
-// ISA this CPU has (tails and constant operands included); the voxel engine's float32 lanes
-// use them; and the README's accuracy table is the one the list gives.
+// tests/unit/interp_vector_math_test.cpp — the float32 vector kernels (vector_math.def: SLEEF's
+// and fortu's own) against libm over each op's argument sweep and near its special points,
+// within the ULP bound the list states, on every ISA this CPU has (tails and constant
+// operands included); fortu's exp and ln on their special values exactly; the compiled
+// tapes' one-vector functions give the lane loops' bits; and the README's accuracy table is
+// the one the list gives.
 #include "interp/vector_math.hpp"
 #include "interp/voxel_engine.hpp"
 #include "interp_test_support.hpp"
@@ -11,6 +13,9 @@
 
 #include <cmath>
 #include <cstring>
+#if defined(__AVX2__)
+#include <immintrin.h>
+#endif
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -23,7 +28,8 @@ namespace {
 
 struct VectorOp {
     ir::Op op;
-    const char* sleef;
+    const char* name;
+    const char* library;
     const char* accuracy;
     double ulp;
     double lo, hi;
@@ -33,10 +39,10 @@ struct VectorOp {
 
 const std::vector<VectorOp>& vector_ops() {
     static const std::vector<VectorOp> ops = {
-#define FORTU_VECTOR_MATH_1(op, sleef, accuracy, ulp, lo, hi) \
-    {ir::Op::op, #sleef, #accuracy, ulp, lo, hi, 1, [](double a, double) { return std::sleef(a); }},
-#define FORTU_VECTOR_MATH_2(op, sleef, accuracy, ulp, lo, hi) \
-    {ir::Op::op, #sleef, #accuracy, ulp, lo, hi, 2, [](double a, double b) { return std::sleef(a, b); }},
+#define FORTU_VECTOR_MATH_1(op, name, library, accuracy, ulp, lo, hi) \
+    {ir::Op::op, #name, #library, #accuracy, ulp, lo, hi, 1, [](double a, double) { return std::name(a); }},
+#define FORTU_VECTOR_MATH_2(op, name, library, accuracy, ulp, lo, hi) \
+    {ir::Op::op, #name, #library, #accuracy, ulp, lo, hi, 2, [](double a, double b) { return std::name(a, b); }},
 #include "interp/vector_math.def"
     };
     return ops;
@@ -56,6 +62,34 @@ double ulp_error(float got, double exact) {
 
 const std::vector<float> kSpecials = {0.0f, -0.0f, 1.0f, -1.0f, 0.5f, INFINITY, -INFINITY, NAN};
 
+/// Where one-operand ops are hard, beyond the even sweep: exp near 0, its switch to the wide
+/// path (|x| = 87), the overflow threshold ln(FLT_MAX), the lowest normal result, the
+/// subnormal results and the last nonzero one; the logarithms near 1, √½ and √2 (where the
+/// mantissa's range wraps), the smallest normal and the subnormals, and FLT_MAX.
+std::vector<float> hard_points(ir::Op op) {
+    std::vector<float> centres;
+    const bool logarithm = op == ir::Op::Ln || op == ir::Op::Log10 || op == ir::Op::Log2;
+    if (op == ir::Op::Exp)
+        centres = {0.0f, 1e-30f, -1e-30f, 87.0f, -87.0f, 88.7228394f, -87.3365479f, -95.0f, -100.0f,
+                   -103.278931f, -103.972076f, -104.0f, 89.0f};
+    else if (logarithm)
+        centres = {1.0f, 0.70710677f, 1.41421354f, 1.17549435e-38f, 1e-40f, 1e-45f, 3.40282347e38f};
+    std::vector<float> points;
+    for (float c : centres) {
+        float below = c, above = c;
+        for (int k = 0; k < 300; ++k) {   // the 300 floats on either side
+            points.push_back(below);
+            points.push_back(above);
+            below = std::nextafter(below, -INFINITY);
+            above = std::nextafter(above, INFINITY);
+        }
+    }
+    if (logarithm)   // every binade, subnormals included, 64 mantissas each
+        for (int e = -149; e <= 127; ++e)
+            for (int j = 0; j < 64; ++j) points.push_back(std::ldexp(1.0f + j / 64.0f, e));
+    return points;
+}
+
 /// The sweep's first operands and second operands (a grid for two-operand ops).
 void sweep(const VectorOp& v, std::vector<float>& a, std::vector<float>& b) {
     a.clear();
@@ -64,6 +98,8 @@ void sweep(const VectorOp& v, std::vector<float>& a, std::vector<float>& b) {
         const int n = 20001;   // not a multiple of 8 or 16: the tail runs too
         for (int i = 0; i < n; ++i) a.push_back(static_cast<float>(v.lo + (v.hi - v.lo) * i / (n - 1)));
         a.insert(a.end(), kSpecials.begin(), kSpecials.end());
+        const std::vector<float> hard = hard_points(v.op);
+        a.insert(a.end(), hard.begin(), hard.end());
         b.assign(a.size(), 0.0f);
         return;
     }
@@ -92,7 +128,7 @@ TEST_CASE("every vector kernel is within its stated ULP of libm over its sweep, 
         vector_math::use_isa(isa);
         for (const VectorOp& v : vector_ops()) {
             CAPTURE(std::string(vector_math::isa_name(isa)));
-            CAPTURE(std::string(v.sleef));
+            CAPTURE(std::string(v.name));
             REQUIRE(vector_math::has_vector_kernel(v.op));
             std::vector<float> a, b;
             sweep(v, a, b);
@@ -105,7 +141,7 @@ TEST_CASE("every vector kernel is within its stated ULP of libm over its sweep, 
                 const double e = ulp_error(out[i], v.reference(a[i], b[i]));
                 if (e > worst) { worst = e; worst_a = a[i]; worst_b = b[i]; }
             }
-            MESSAGE(fmt::format("{} {}: worst {:.4f} ULP at ({}, {})", vector_math::isa_name(isa), v.sleef, worst,
+            MESSAGE(fmt::format("{} {}: worst {:.4f} ULP at ({}, {})", vector_math::isa_name(isa), v.name, worst,
                                 worst_a, worst_b));
             CHECK(worst <= v.ulp);
         }
@@ -153,6 +189,92 @@ TEST_CASE("sinh and cosh overflow a little early, as the README says: inf beyond
     vector_math::use_isa(vector_math::Isa::avx512);
 }
 
+/// op over `x` through run_float on the active ISA.
+std::vector<float> run_all(ir::Op op, const std::vector<float>& x) {
+    std::vector<float> out(x.size(), -7.0f);
+    REQUIRE(vector_math::run_float(op, x.data(), nullptr, 0, 0, 0, out.data(), static_cast<int>(x.size())));
+    return out;
+}
+
+TEST_CASE("fortu's exp gives IEEE's special values, overflows at ln(FLT_MAX) and rounds subnormal results") {
+    const float kLastFinite = 88.7228317f;   // 0x42b17217, just below ln(FLT_MAX) = 88.72283905
+    const float kFirstInfinite = 88.7228394f;   // 0x42b17218
+    for (vector_math::Isa isa : isas_here()) {
+        vector_math::use_isa(isa);
+        CAPTURE(std::string(vector_math::isa_name(isa)));
+        const std::vector<float> x = {NAN, INFINITY, -INFINITY, 0.0f, -0.0f, kLastFinite, kFirstInfinite, 89.0f,
+                                      1e30f, -87.3365479f, -100.0f, -103.278931f, -104.0f, -1e30f, 1.0f};
+        const std::vector<float> y = run_all(ir::Op::Exp, x);
+        CHECK(std::isnan(y[0]));
+        CHECK(y[1] == INFINITY);
+        CHECK(same_bits(y[2], 0.0f));
+        CHECK(y[3] == 1.0f);
+        CHECK(y[4] == 1.0f);
+        CHECK(y[5] == 3.40279851e38f);   // the correctly rounded e^x: 3.4027985e38
+        CHECK(y[6] == INFINITY);
+        CHECK(y[7] == INFINITY);
+        CHECK(y[8] == INFINITY);
+        CHECK(y[9] == 1.17549e-38f);   // e^x = 1.1754900e-38, just below FLT_MIN: subnormal
+        CHECK(y[10] == 3.7835059e-44f);   // 27 · 2^-149 (e^-100 = 3.72e-44)
+        CHECK(y[11] == 1.40129846e-45f);   // 2^-149, the last nonzero
+        CHECK(same_bits(y[12], 0.0f));
+        CHECK(same_bits(y[13], 0.0f));
+        CHECK(y[14] == 2.71828175f);
+    }
+    vector_math::use_isa(vector_math::Isa::avx512);
+}
+
+TEST_CASE("fortu's ln gives IEEE's special values and is exact at 1 and right on subnormals") {
+    for (vector_math::Isa isa : isas_here()) {
+        vector_math::use_isa(isa);
+        CAPTURE(std::string(vector_math::isa_name(isa)));
+        const std::vector<float> x = {NAN, INFINITY, -INFINITY, 0.0f, -0.0f, -1.0f, -1e-45f, 1.0f,
+                                      1.40129846e-45f, 1e-40f, 1.17549435e-38f, 3.40282347e38f, 2.0f};
+        const std::vector<float> y = run_all(ir::Op::Ln, x);
+        CHECK(std::isnan(y[0]));
+        CHECK(y[1] == INFINITY);
+        CHECK(std::isnan(y[2]));
+        CHECK(y[3] == -INFINITY);
+        CHECK(y[4] == -INFINITY);
+        CHECK(std::isnan(y[5]));
+        CHECK(std::isnan(y[6]));
+        CHECK(same_bits(y[7], 0.0f));
+        CHECK(y[8] == -103.278931f);   // ln 2^-149
+        CHECK(y[9] == -92.1034012f);
+        CHECK(y[10] == -87.3365479f);
+        CHECK(y[11] == 88.7228394f);
+        CHECK(y[12] == 0.693147182f);
+    }
+    vector_math::use_isa(vector_math::Isa::avx512);
+}
+
+#if defined(__AVX2__)
+TEST_CASE("the compiled tapes' one-vector functions give the AVX2 lane loops' bits") {
+    if (vector_math::best_isa() < vector_math::Isa::avx2) return;
+    vector_math::use_isa(vector_math::Isa::avx2);
+    for (const VectorOp& v : vector_ops()) {
+        if (v.arity != 1) continue;
+        CAPTURE(std::string(v.name));
+        std::vector<float> a, b;
+        sweep(v, a, b);
+        a.resize(a.size() / 8 * 8);
+        const std::vector<float> lanes = run_all(v.op, a);
+        void* function = vector_math::avx2_vector_function(v.op);
+        REQUIRE(function != nullptr);
+        const auto one_vector = reinterpret_cast<__m256 (*)(__m256)>(function);
+        std::size_t differing = 0;
+        for (std::size_t i = 0; i < a.size(); i += 8) {
+            float out[8];
+            _mm256_storeu_ps(out, one_vector(_mm256_loadu_ps(a.data() + i)));
+            for (int l = 0; l < 8; ++l) differing += !same_bits(out[l], lanes[i + l]);
+        }
+        CHECK(differing == 0);
+    }
+    CHECK(vector_math::avx2_vector_function(ir::Op::Add) == nullptr);
+    vector_math::use_isa(vector_math::Isa::avx512);
+}
+#endif
+
 TEST_CASE("operations without a vector kernel, or no vector ISA, are left to the lane loop") {
     float a[4] = {1, 2, 3, 4}, out[4] = {0, 0, 0, 0};
     CHECK_FALSE(vector_math::has_vector_kernel(ir::Op::Add));
@@ -168,7 +290,7 @@ TEST_CASE("operations without a vector kernel, or no vector ISA, are left to the
 TEST_CASE("AVX2 and AVX-512 give bit-identical float32 values (on CPUs with both)") {
     if (vector_math::best_isa() < vector_math::Isa::avx512) return;   // nothing to compare here
     for (const VectorOp& v : vector_ops()) {
-        CAPTURE(std::string(v.sleef));
+        CAPTURE(std::string(v.name));
         std::vector<float> a, b;
         sweep(v, a, b);
         std::vector<float> narrow(a.size()), wide(a.size());
@@ -184,13 +306,18 @@ TEST_CASE("AVX2 and AVX-512 give bit-identical float32 values (on CPUs with both
 
 TEST_CASE("the README's float32 accuracy table is the one vector_math.def gives") {
     std::ostringstream table;
-    table << "| operation | SLEEF function (AVX2 / AVX-512) | error bound, float32 | tested over |\n"
+    table << "| operation | function (AVX2 / AVX-512) | error bound, float32 | tested over |\n"
           << "|---|---|---|---|\n";
     for (const VectorOp& v : vector_ops()) {
-        std::ostringstream range;
+        std::ostringstream range, function;
         range << "[" << v.lo << ", " << v.hi << "]" << (v.arity == 2 ? "²" : "");
-        table << "| " << ir::op_name(v.op) << " | Sleef_" << v.sleef << "f8_" << v.accuracy << "avx2 / Sleef_"
-              << v.sleef << "f16_" << v.accuracy << "avx512f | " << v.ulp << " ULP | " << range.str() << " |\n";
+        if (std::string(v.library) == "fortu")
+            function << "fortu's own (8 / 16 lanes)";
+        else
+            function << "Sleef_" << v.name << "f8_" << v.accuracy << "avx2 / Sleef_" << v.name << "f16_" << v.accuracy
+                     << "avx512f";
+        table << "| " << ir::op_name(v.op) << " | " << function.str() << " | " << v.ulp << " ULP | " << range.str()
+              << " |\n";
     }
     std::ifstream in(std::string(FORTU_SOURCE_DIR) + "/README.md");
     std::stringstream readme;

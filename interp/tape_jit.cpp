@@ -3,7 +3,9 @@
 #include "interp/tape_jit.hpp"
 
 #include "interp/lane_kernel.hpp"
+#include "interp/tape_jit_math.hpp"
 #include "interp/vector_math.hpp"
+#include "interp/vector_math_functions.hpp"
 
 #include <asmjit/x86.h>
 #if defined(__AVX2__)
@@ -12,7 +14,9 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
+#include <functional>
 #include <limits>
+#include <map>
 #include <mutex>
 #include <tuple>
 #include <type_traits>
@@ -140,6 +144,26 @@ void* float_vector_function(ir::Op op) {
     (void)op;
     return nullptr;
 #endif
+}
+
+/// A float32 function compiled inline from vector_math_functions.hpp's template, when the lane
+/// loops run the same template (vector_math.def): exp and ln. False: call it instead.
+template <class E>
+bool inline_math(E& e, std::size_t i, ir::Op op, const OperandRef* refs, void* function,
+                 const std::function<x86::Mem(uint32_t)>& pool_constant,
+                 std::vector<std::function<void()>>& cold_paths) {
+    using Code = tape_jit_math::Code;
+    namespace f = vector_math::functions;
+    if (!(op == ir::Op::Exp || op == ir::Op::Ln)) return false;   // TEMP until vmath merges
+    switch (op) {
+    case ir::Op::Exp:
+        e.inline_function(i, refs, f::exp_needs_wide<Code>, f::exp_narrow<Code>, function, pool_constant, cold_paths);
+        return true;
+    case ir::Op::Ln:
+        e.inline_function(i, refs, f::log_needs_wide<Code>, f::log_narrow<Code>, function, pool_constant, cold_paths);
+        return true;
+    default: return false;
+    }
 }
 
 /// Whether an instruction is compiled inline (Emitter::emit) rather than handed to the lane kernel.
@@ -408,6 +432,66 @@ public:
         }
     }
 
+    /// A float32 function of vector_math_functions.hpp written inline (tape_jit_math.hpp):
+    /// `narrow` for the chunk's four vectors, unless `needs_wide` marks a lane of one of them;
+    /// then, out of line (`cold`, written after the function's end), `function` is called per
+    /// vector, as call_vector_function does, and its results reloaded. Held values must be
+    /// flushed first: the written code may use every register but the result's group.
+    template <class NeedsWide, class Narrow>
+    void inline_function(std::size_t i, const OperandRef* refs, NeedsWide needs_wide, Narrow narrow, void* function,
+                         const std::function<x86::Mem(uint32_t)>& pool_constant,
+                         std::vector<std::function<void()>>& cold_paths) {
+        namespace math = tape_jit_math;
+        const OperandRef out = refs[0], in = refs[1];
+        prepare(refs, 2);
+        const int group = result_group(i);
+        std::vector<int> registers;
+        for (int r = 15; r >= 0; --r)
+            if (r < kGroupBase[group] || r >= kGroupBase[group] + kVectors<T>) registers.push_back(r);
+        std::array<x86::Mem, kVectors<T>> in_memory, out_memory;
+        for (int v = 0; v < kVectors<T>; ++v) {
+            in_memory[v] = source(in, 1, v).template as<x86::Mem>();
+            out_memory[v] = out.place == Place::internal
+                                ? chunk_slot(out.index, v)
+                                : x86::ptr(pointer_reg(0), x86::r14, 0, v * kVectorBytes, kVectorBytes);
+        }
+        const Label cold = a_.newLabel(), done = a_.newLabel();
+        {
+            math::Writer writer(a_, registers, pool_constant);
+            math::Value any;
+            for (int v = 0; v < kVectors<T>; ++v) {
+                const math::Value mask = needs_wide(writer.load(in_memory[v]));
+                any = v == 0 ? mask : math::Code::or_mask(any, mask);
+            }
+            a_.vtestps(any.ymm(), any.ymm());
+            a_.jnz(cold);
+        }
+        {
+            math::Writer writer(a_, registers, pool_constant);
+            for (int v = 0; v < kVectors<T>; ++v)
+                a_.vmovaps(group_register(group, v), narrow(writer.load(in_memory[v])).ymm());
+        }
+        a_.bind(done);
+        cold_paths.push_back([this, cold, done, in, out, group, function, in_memory, out_memory] {
+            a_.bind(cold);
+            for (int v = 0; v < kVectors<T>; ++v) {
+                if (in.place == Place::external)
+                    a_.mov(pointer_reg(1), x86::ptr(x86::rbx, int32_t(in.index * sizeof(T*))));
+                a_.vmovups(x86::ymm0, in_memory[v]);
+                a_.mov(x86::rax, Imm(reinterpret_cast<uint64_t>(function)));
+                a_.call(x86::rax);
+                if (out.place == Place::external)
+                    a_.mov(pointer_reg(0), x86::ptr(x86::rbx, int32_t(out.index * sizeof(T*))));
+                a_.vmovups(out_memory[v], x86::ymm0);
+            }
+            for (int v = 0; v < kVectors<T>; ++v) a_.vmovups(group_register(group, v), out_memory[v]);
+            a_.jmp(done);
+        });
+        if (out.place == Place::external)
+            for (int v = 0; v < kVectors<T>; ++v) store(out, v, group_register(group, v));
+        held_[group] = Held{true, out.place != Place::external, out, i, ++clock_};
+    }
+
     /// An instruction left to the lane kernel: a call with the registers it may clobber
     /// reloaded by the next instructions (they reload everything they use).
     void call_site(const SiteOf<T>* site) {
@@ -584,6 +668,19 @@ std::unique_ptr<CompiledTape<T>> CompiledTape<T>::compile(const Tape& tape, std:
         }
     }
     Emitter<T> e(a, last_read);
+    // Constants of the inline functions (tape_jit_math.hpp): pool entries after the others.
+    std::map<uint32_t, uint32_t> math_constants;
+    const std::function<x86::Mem(uint32_t)> pool_constant = [&](uint32_t bits) {
+        auto [it, added] = math_constants.try_emplace(
+            bits, uint32_t(c.operand_constants.size() + c.fixed_constants.size()));
+        if (added) {
+            T value{};
+            if constexpr (sizeof(T) == 4) std::memcpy(&value, &bits, 4);
+            c.fixed_constants.push_back(value);
+        }
+        return Emitter<T>::pool_entry(it->second);
+    };
+    std::vector<std::function<void()>> cold_paths;
     // Sites are addressed by the code, so their vector must not move.
     c.sites.reserve(tape.code.size());
     Label block;
@@ -605,7 +702,8 @@ std::unique_ptr<CompiledTape<T>> CompiledTape<T>::compile(const Tape& tape, std:
         e.flush(i - 1);   // the call reads its operands from memory and may change every register
         if constexpr (std::is_same_v<T, float>) {
             if (void* function = float_vector_function(tape.code[i].op)) {
-                e.call_vector_function(refs[i].data(), ir::op_arity(tape.code[i].op), function);
+                if (!inline_math(e, i, tape.code[i].op, refs[i].data(), function, pool_constant, cold_paths))
+                    e.call_vector_function(refs[i].data(), ir::op_arity(tape.code[i].op), function);
                 continue;
             }
         }
@@ -619,6 +717,7 @@ std::unique_ptr<CompiledTape<T>> CompiledTape<T>::compile(const Tape& tape, std:
     a.add(x86::rsp, 8);
     for (int k = 5; k >= 0; --k) a.pop(saved[k]);
     a.ret();
+    for (const std::function<void()>& cold : cold_paths) cold();
 
     {
         std::lock_guard lock(runtime_mutex());

@@ -269,3 +269,57 @@ TEST_CASE("compiled tapes take the per-row values from the rows' arrays or from 
         }
     }
 }
+
+TEST_CASE("compiled float32 exp and ln: their narrow path inline, chunks with a wide lane by the call, as the lane loops") {
+    if (!tape_jit_available()) return;
+    ir::Graph g;
+    const ir::NodeId x = g.argument(0), y = g.argument(1);
+    const ir::NodeId ex = g.make(Op::Exp, std::array{x}), ln = g.make(Op::Ln, std::array{y});
+    // Chained, so the functions also read held and stored results.
+    const ir::NodeId both = g.make(Op::Ln, std::array{g.make(Op::Add, std::array{ex, ln})});
+    const Tape tape = compile_tape(g, TapeSpec{{ex, ln, both}, {}, {}});
+    std::unique_ptr<CompiledTape<float>> jit = CompiledTape<float>::compile(tape);
+    REQUIRE(jit);
+    constexpr int kLanes = 1024;
+    // The first half only ordinary arguments (|x| ≤ 87 for exp, positive normal numbers for
+    // ln): the narrow path. In the second half each 32-lane chunk has one lane of another
+    // kind (overflow, underflow, NaN, ±inf, 0, negative, subnormal), at a different place.
+    std::mt19937 random(7);
+    std::uniform_real_distribution<float> exponent(-87.0f, 87.0f), magnitude(-37.0f, 38.0f);
+    std::vector<float> xs(kLanes), ys(kLanes);
+    for (int l = 0; l < kLanes; ++l) xs[l] = exponent(random), ys[l] = std::pow(10.0f, magnitude(random));
+    const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+    const float wide_x[] = {89.5f, -95.0f, nan, inf, -inf, 104.0f, -150.0f, 87.5f};
+    const float wide_y[] = {0.0f, -1.0f, nan, inf, -0.0f, 1e-40f, std::numeric_limits<float>::denorm_min(), -inf};
+    for (int chunk = 16; chunk < 32; ++chunk) {
+        const int lane = chunk * 32 + (chunk * 5) % 32;
+        xs[lane] = wide_x[chunk % 8];
+        ys[lane + (chunk % 2)] = wide_y[chunk % 8];
+    }
+    const auto outputs = [&](bool compiled) {
+        std::vector<std::vector<float>> storage(tape.slot_count, std::vector<float>(kLanes, 0.0f));
+        for (auto [slot, value] : tape.constants) std::fill(storage[slot].begin(), storage[slot].end(), float(value));
+        for (auto [slot, axis] : tape.arguments) storage[slot] = axis == 0 ? xs : ys;
+        std::vector<float*> slots(tape.slot_count);
+        for (uint32_t s = 0; s < tape.slot_count; ++s) slots[s] = storage[s].data();
+        JitScratch<float> scratch;
+        if (compiled) jit->run(tape.code.data(), tape.code.size(), slots.data(), kLanes, scratch, true);
+        else run_lanes<float, 0>(tape.code.data(), tape.code.size(), slots.data(), kLanes);
+        std::vector<std::vector<float>> result;
+        for (uint32_t slot : tape.outputs) result.push_back(storage[slot]);
+        return result;
+    };
+    const auto compiled = outputs(true), lanes = outputs(false);
+    for (std::size_t k = 0; k < lanes.size(); ++k) {
+        CAPTURE(k);
+        int differing = 0;
+        for (int l = 0; l < kLanes; ++l)
+            if (!same_value(compiled[k][l], lanes[k][l]) && ++differing <= 5)
+                MESSAGE("lane ", l, ": compiled ", compiled[k][l], ", lane loops ", lanes[k][l]);
+        CHECK(differing == 0);
+    }
+    // The wide lanes gave what exp and ln give there.
+    CHECK(compiled[0][16 * 32 + (16 * 5) % 32] == inf);   // exp(89.5) overflows
+    CHECK(std::isnan(compiled[1][18 * 32 + (18 * 5) % 32]));   // ln(NaN)
+    CHECK(compiled[1][20 * 32 + (20 * 5) % 32] == -inf);   // ln(-0)
+}

@@ -146,15 +146,18 @@ void* float_vector_function(ir::Op op) {
 #endif
 }
 
-/// A float32 function compiled inline from vector_math_functions.hpp's template, when the lane
-/// loops run the same template (vector_math.def): exp and ln. False: call it instead.
+/// A float32 function compiled inline from vector_math_functions.hpp's template, where the
+/// lane loops run that template (vector_math.def's library column), on AVX2 or AVX-512 alike
+/// (the template's values do not depend on the width): exp and ln. False: call or hand it on.
 template <class E>
-bool inline_math(E& e, std::size_t i, ir::Op op, const OperandRef* refs, void* function,
+bool inline_math(E& e, std::size_t i, ir::Op op, const OperandRef* refs,
                  const std::function<x86::Mem(uint32_t)>& pool_constant,
                  std::vector<std::function<void()>>& cold_paths) {
     using Code = tape_jit_math::Code;
     namespace f = vector_math::functions;
-    if (!(op == ir::Op::Exp || op == ir::Op::Ln)) return false;   // TEMP until vmath merges
+    if (!vector_math::runs_fortu_function(op) || vector_math::active_isa() == vector_math::Isa::none) return false;
+    void* function = vector_math::avx2_vector_function(op);   // for chunks with a lane the narrow path leaves
+    if (!function) return false;
     switch (op) {
     case ir::Op::Exp:
         e.inline_function(i, refs, f::exp_needs_wide<Code>, f::exp_narrow<Code>, function, pool_constant, cold_paths);
@@ -701,9 +704,9 @@ std::unique_ptr<CompiledTape<T>> CompiledTape<T>::compile(const Tape& tape, std:
         }
         e.flush(i - 1);   // the call reads its operands from memory and may change every register
         if constexpr (std::is_same_v<T, float>) {
+            if (inline_math(e, i, tape.code[i].op, refs[i].data(), pool_constant, cold_paths)) continue;
             if (void* function = float_vector_function(tape.code[i].op)) {
-                if (!inline_math(e, i, tape.code[i].op, refs[i].data(), function, pool_constant, cold_paths))
-                    e.call_vector_function(refs[i].data(), ir::op_arity(tape.code[i].op), function);
+                e.call_vector_function(refs[i].data(), ir::op_arity(tape.code[i].op), function);
                 continue;
             }
         }

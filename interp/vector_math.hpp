@@ -25,6 +25,24 @@ constexpr bool has_vector_kernel(ir::Op op) {
     }
 }
 
+/// Whether `op`'s float32 lanes run fortu's own function (vector_math_functions.hpp: the
+/// list's library column says `fortu`), which compiled tapes then write inline.
+constexpr bool runs_fortu_function(ir::Op op) {
+#define FORTU_LIBRARY_IS_fortu true
+#define FORTU_LIBRARY_IS_sleef false
+    switch (op) {
+#define FORTU_VECTOR_MATH_1(op, name, library, accuracy, ulp, lo, hi) \
+    case ir::Op::op: return FORTU_LIBRARY_IS_##library;
+#define FORTU_VECTOR_MATH_2(op, name, library, accuracy, ulp, lo, hi) \
+    case ir::Op::op: return FORTU_LIBRARY_IS_##library;
+#include "interp/vector_math.def"
+    default:
+        return false;
+    }
+#undef FORTU_LIBRARY_IS_fortu
+#undef FORTU_LIBRARY_IS_sleef
+}
+
 /// The widest ISA both this build and this CPU support.
 Isa best_isa();
 /// The ISA run_float uses (best_isa() unless narrowed by use_isa).

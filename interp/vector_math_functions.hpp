@@ -73,21 +73,33 @@ inline typename W::F exp_wide(typename W::F x) {
 
 }  // namespace detail
 
-/// e^x, at most 1 float32 ULP from the exact value (vector_math.def).
+/// The lanes exp's narrow path does not cover: |x| > 87, or NaN (overflow, subnormal or
+/// special results).
 template <class W>
-inline typename W::F exp(typename W::F x) {
+inline typename W::M exp_needs_wide(typename W::F x) {
+    return W::not_less_equal(W::abs(x), W::set(87.0f));
+}
+
+/// e^x for |x| ≤ 87: n = round(x / ln2) and 2^n from one sum: 1.5·2^23 + 127 + x/ln2 rounds
+/// to an integer whose low mantissa bits are n + 127, the biased exponent of 2^n.
+template <class W>
+inline typename W::F exp_narrow(typename W::F x) {
     using F = typename W::F;
-    // Beyond |x| = 87 (or NaN) a lane may overflow, be subnormal or be special: the wide
-    // path, whose clamp gives +inf above 89 > ln(FLT_MAX) and +0 below −104 (e^-104 <
-    // 2^-150). NaN passes the clamp (min/max give their second operand).
-    if (W::any(W::not_less_equal(W::abs(x), W::set(87.0f)))) [[unlikely]]
-        return detail::exp_wide<W>(W::max(W::set(-104.0f), W::min(W::set(89.0f), x)));
-    // n = round(x / ln2) and 2^n from one sum: 1.5·2^23 + 127 + x/ln2 rounds to an integer
-    // whose low mantissa bits are n + 127, the biased exponent of 2^n.
     const F shifter = W::set(12583039.0f);
     const F shifted = W::fma(x, W::set(1.44269502162933349609375f), shifter);
     const F n = W::sub(shifted, shifter);
     return W::mul(detail::exp_reduced<W>(x, n), W::as_float(W::shl23(W::as_int(shifted))));
+}
+
+/// e^x, at most 1 float32 ULP from the exact value (vector_math.def).
+template <class W>
+inline typename W::F exp(typename W::F x) {
+    // Beyond |x| = 87 (or NaN) a lane may overflow, be subnormal or be special: the wide
+    // path, whose clamp gives +inf above 89 > ln(FLT_MAX) and +0 below −104 (e^-104 <
+    // 2^-150). NaN passes the clamp (min/max give their second operand).
+    if (W::any(exp_needs_wide<W>(x))) [[unlikely]]
+        return detail::exp_wide<W>(W::max(W::set(-104.0f), W::min(W::set(89.0f), x)));
+    return exp_narrow<W>(x);
 }
 
 namespace detail {
@@ -136,14 +148,25 @@ inline typename W::F log_wide(typename W::F x) {
 
 }  // namespace detail
 
+/// The lanes ln's narrow path does not cover: anything but positive normal numbers
+/// (subnormal, zero, negative, inf, NaN).
+template <class W>
+inline typename W::M log_needs_wide(typename W::F x) {
+    return W::or_mask(W::not_greater_equal(x, W::set(1.17549435e-38f)), W::greater(x, W::set(3.40282347e38f)));
+}
+
+/// ln x for a positive normal x.
+template <class W>
+inline typename W::F log_narrow(typename W::F x) {
+    return detail::log_normal<W>(x, W::set(0.0f));
+}
+
 /// ln x, at most 1 float32 ULP from the exact value (vector_math.def).
 template <class W>
 inline typename W::F log(typename W::F x) {
-    // Anything but positive normal numbers (subnormal, zero, negative, inf, NaN): the wide path.
-    if (W::any(W::or_mask(W::not_greater_equal(x, W::set(1.17549435e-38f)),
-                          W::greater(x, W::set(3.40282347e38f))))) [[unlikely]]
+    if (W::any(log_needs_wide<W>(x))) [[unlikely]]
         return detail::log_wide<W>(x);
-    return detail::log_normal<W>(x, W::set(0.0f));
+    return log_narrow<W>(x);
 }
 
 }  // namespace fortu::vector_math::functions

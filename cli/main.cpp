@@ -339,7 +339,7 @@ int command_run_files(const CliOptions& o) {
             "nodes: {} ({} operations), shared: {}, hash-consing reuses: {}\n"
             "classic cost: {} operations per point; voxel: {}{}\n"
             "engine: {}{}, threads: {}\n"
-            "isa: lane loops {}, compiled tapes {}, float32 transcendentals {} (SLEEF)\n"
+            "isa: lane loops {}, compiled tapes {}, float32 transcendentals {} (SLEEF; exp, ln: fortu)\n"
             "time: compile {:.3f} s, evaluate {:.3f} s, write {:.3f} s\n"
             "speed: {} points/s\n"
             "values: min {}, max {}, inside {}, boundary {}, outside {}, invalid {}\n"

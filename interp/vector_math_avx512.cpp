@@ -9,6 +9,12 @@
 #include <immintrin.h>
 #include <sleef.h>
 
+// GCC 12 warns that the _mm512_undefined_* operands inside intrinsics such as
+// _mm512_cvtepi32_ps and _mm512_srai_epi32 may be uninitialized: they are meant to be.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
+
 namespace fortu::vector_math {
 namespace {
 

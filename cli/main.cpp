@@ -339,7 +339,7 @@ int command_run_files(const CliOptions& o) {
             "nodes: {} ({} operations), shared: {}, hash-consing reuses: {}\n"
             "classic cost: {} operations per point; voxel: {}{}\n"
             "engine: {}{}, threads: {}\n"
-            "isa: lane loops {}, compiled tapes {}, float32 transcendentals {} (SLEEF; exp, ln: fortu)\n"
+            "isa: lane loops {}, compiled tapes {}, float32 transcendentals {} ({})\n"
             "time: compile {:.3f} s, evaluate {:.3f} s, write {:.3f} s\n"
             "speed: {} points/s\n"
             "values: min {}, max {}, inside {}, boundary {}, outside {}, invalid {}\n"
@@ -351,7 +351,7 @@ int command_run_files(const CliOptions& o) {
             can.hoists ? hoisted_text(s) : "", engine->name(),
             can.sign_only ? " (interval sign renderer)" : can.float32 ? " (float32)" : "", o.threads > 0 ? o.threads : int(std::max(1u, std::thread::hardware_concurrency())),
             lane_loop_isa(), !tape_jit_available() ? "none" : o.engine_settings.compile ? "AVX2" : "off (--no-jit)",
-            vector_math::isa_name(vector_math::active_isa()), compile_seconds, eval_seconds, write_seconds,
+            vector_math::isa_name(vector_math::active_isa()), vector_math::libraries_text(), compile_seconds, eval_seconds, write_seconds,
             format_operations(eval_seconds > 0 ? double(grid.points()) / eval_seconds : 0.0),
             stats.min, stats.max, stats.positive, stats.zero, stats.negative, stats.invalid,
             format_bytes(eval_peak), format_bytes(peak_rss_bytes()));

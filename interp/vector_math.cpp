@@ -81,6 +81,15 @@ bool run_float(ir::Op op, const float* a, const float* b, float ka, float kb, un
     return true;
 }
 
+std::string libraries_text() {
+    std::string fortu_ops;
+#define FORTU_VECTOR_MATH_1(op, name, library, accuracy, ulp, lo, hi) \
+    if (runs_fortu_function(ir::Op::op)) fortu_ops += std::string(fortu_ops.empty() ? "" : ", ") + std::string(ir::op_name(ir::Op::op));
+#define FORTU_VECTOR_MATH_2 FORTU_VECTOR_MATH_1
+#include "interp/vector_math.def"
+    return fortu_ops.empty() ? "SLEEF" : "SLEEF; " + fortu_ops + ": fortu";
+}
+
 void* avx2_vector_function(ir::Op op) {
 #if defined(FORTU_VECTOR_MATH_AVX2)
     const int slot = kSlotOfOp[static_cast<int>(op)];

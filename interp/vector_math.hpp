@@ -9,6 +9,8 @@
 
 #include "interp/ir/ir.hpp"
 
+#include <string>
+
 namespace fortu::vector_math {
 
 enum class Isa { none, avx2, avx512 };
@@ -52,6 +54,9 @@ Isa active_isa();
 void use_isa(Isa isa);
 /// "AVX-512", "AVX2" or "none".
 const char* isa_name(Isa isa);
+/// Whose functions compute the float32 transcendentals, from the list's library column:
+/// "SLEEF; exp, ln: fortu".
+std::string libraries_text();
 
 /// out[l] = op(a[l], b[l]) for l < lanes; an operand whose bit is set in constant_mask is
 /// ka / kb in every lane. False (nothing written) when op has no vector kernel or no

@@ -546,7 +546,7 @@ public:
     /// Whether the edge point p found from cell `id` lies in a cell next to it (sharing a face,
     /// an edge or a node) that has no triangles, set as `cell`: an acute edge's wedge thinner
     /// than a cell leaves every cell along the edge empty (the 39° edge of the FLOZ3 plate at
-    /// 29 and 37 nodes), so the edge is traced from the patches beside it or not at all.
+    /// 37 nodes), so the edge is traced from the patches beside it or not at all.
     bool empty_cell_beside(uint64_t id, const Vec& p, uint64_t& cell) const {
         const auto c = coords(id);
         for (uint64_t other : cells_around(p)) {

@@ -1044,6 +1044,7 @@ private:
                 double distance;
                 std::pair<uint32_t, uint32_t> segment;
                 uint64_t face;
+                bool folds;  ///< q put in crosses another segment of the face's ring
             };
             std::vector<Candidate> candidates;
             double h = 0;
@@ -1068,7 +1069,20 @@ private:
                             if (std::fabs(u[axis] - plane) > tolerance || std::fabs(v[axis] - plane) > tolerance) continue;
                             const Vec d = sub(v, u);
                             const double s = std::clamp(dot(sub(q, u), d) / dot(d, d), 0.0, 1.0);
-                            candidates.push_back({norm(sub(q, {u[0] + s * d[0], u[1] + s * d[1], u[2] + s * d[2]})), {a, b}, face});
+                            // A face cut twice (two sheets across it): the crossing may lie beyond
+                            // the nearer segment's neighbour, and put in there the face's
+                            // boundary would cross itself (build_cell refuses it).
+                            const int e = axis == 0 ? 1 : 0, w = axis == 2 ? 1 : 2;
+                            auto flat = [&](const Vec& p) { return std::array<double, 2>{p[e], p[w]}; };
+                            bool folds = false;
+                            for (std::size_t j = 0; j < n && !folds; ++j) {
+                                const Vec &f = positions_[(*ring)[j]], &g = positions_[(*ring)[(j + 1) % n]];
+                                if (std::fabs(f[axis] - plane) > tolerance || std::fabs(g[axis] - plane) > tolerance) continue;
+                                if (std::min((*ring)[j], (*ring)[(j + 1) % n]) == a && std::max((*ring)[j], (*ring)[(j + 1) % n]) == b) continue;
+                                folds = segments_cross_2d(flat(u), flat(q), flat(f), flat(g), 1e-12 * h * h) ||
+                                        segments_cross_2d(flat(q), flat(v), flat(f), flat(g), 1e-12 * h * h);
+                            }
+                            candidates.push_back({norm(sub(q, {u[0] + s * d[0], u[1] + s * d[1], u[2] + s * d[2]})), {a, b}, face, folds});
                         }
                     }
             }
@@ -1087,9 +1101,16 @@ private:
                 x.on_mesh_vertex = true;
                 continue;
             }
+            // The nearest segment q can go into without folding its face, else the nearest.
+            double nearest_flat = std::numeric_limits<double>::infinity();
+            for (const Candidate& c : candidates)
+                if (!c.folds) nearest_flat = std::min(nearest_flat, c.distance);
+            const bool any_flat = nearest_flat <= h;
             x.segment = {UINT32_MAX, UINT32_MAX};
             for (const Candidate& c : candidates)
-                if (c.distance <= nearest + 1e-9 * h && c.segment < x.segment) x.segment = c.segment, x.face = c.face;
+                if ((any_flat ? !c.folds && c.distance <= nearest_flat + 1e-9 * h : c.distance <= nearest + 1e-9 * h) &&
+                    c.segment < x.segment)
+                    x.segment = c.segment, x.face = c.face;
             if (candidates.empty() || nearest > h) x.alive = false;
         }
     }

@@ -491,12 +491,11 @@ TEST_CASE("sharp edges are chains of mesh edges through the traced curve, and co
             // triangles (all eight nodes outside), and the cells around the traced edge and its
             // two corners are redone together (README "Meshes", acute edges and tips); so are the
             // cells around the crossings of the other edges that found no segment (in the middle
-            // of an edge). At 29 and 37 nodes the 39° edge's cells are all empty and it is traced
-            // from the patches beside it. All six corners and all nine edges exact at 41 and 65
+            // of an edge). At 37 nodes the 39° edge's cells are all empty and it is traced from
+            // the patches beside it. All six corners and all nine edges exact at 37, 41 and 65
             // nodes; at 33 the 70.5° edge y = 1 (corners 0-1) and the first cells of the edges
-            // from corner 0 are not; at 29 the 39° edge (4-5) and the edges into (0.85, 0, 1.15)
-            // from corners 0 and 2 are not; at 37 the corner (-0.85, -1, -1.15) (3) and the edges
-            // into it are not (README "Meshes", "Not yet").
+            // from corner 0 are not, at 29 the edges into (0.85, 0, 1.15) from corners 0 and 2
+            // (README "Meshes", "Not yet").
             const std::string plate = dir.write("floz3_plate.fortu",
                                                 "ARGUMENT X, Y, Z;\nRETURN (2 - X - 4*Y - Z) & (X + Z + 2) & (2 - X + 4*Y - Z) & "
                                                 "(0.3 - Z + X) & (0.3 + Z - X);\n");
@@ -504,28 +503,15 @@ TEST_CASE("sharp edges are chains of mesh edges through the traced curve, and co
                                                 {-0.85, -1, -1.15}, {0.85, 0, 1.15},  {1.15, 0, 0.85}};
             const std::vector<std::pair<int, int>> all_plate_edges{{0, 1}, {2, 3}, {0, 2}, {1, 3}, {4, 5},
                                                                    {0, 4}, {2, 4}, {1, 5}, {3, 5}};
-            const struct {
-                int nodes;
-                std::vector<int> corners;  ///< the exact ones, indices into plate_corners
-                std::vector<std::pair<int, int>> edges;
-            } plate_sizes[]{{29, {0, 1, 2, 3, 4, 5}, {{0, 1}, {2, 3}, {0, 2}, {1, 3}, {1, 5}, {3, 5}}},
-                            {33, {0, 1, 2, 3, 4, 5}, {{2, 3}, {1, 3}, {4, 5}, {2, 4}, {1, 5}, {3, 5}}},
-                            {37, {0, 1, 2, 4, 5}, {{0, 1}, {0, 2}, {4, 5}, {0, 4}, {2, 4}, {1, 5}}},
-                            {41, {0, 1, 2, 3, 4, 5}, all_plate_edges},
-                            {65, {0, 1, 2, 3, 4, 5}, all_plate_edges}};
-            for (const auto& size : plate_sizes) {
-                std::vector<P3> corners;  // the exact corners, each edge's ends among them
-                for (int c : size.corners) corners.push_back(plate_corners[std::size_t(c)]);
-                std::vector<std::pair<int, int>> edges;
-                auto index = [&](int corner) {
-                    const auto at = std::find(size.corners.begin(), size.corners.end(), corner);
-                    REQUIRE(at != size.corners.end());
-                    return int(at - size.corners.begin());
-                };
-                for (const auto& [a, b] : size.edges) edges.push_back({index(a), index(b)});
-                check_straight_edges(dir, {"floz3_plate", plate, {-1.36, -1.22, -1.29}, {1.31, 1.37, 1.35}, size.nodes, rsystem},
-                                     corners, edges);
-            }
+            const std::vector<std::pair<int, std::vector<std::pair<int, int>>>> plate_edges{
+                {29, {{0, 1}, {2, 3}, {0, 2}, {1, 3}, {4, 5}, {1, 5}, {3, 5}}},
+                {33, {{2, 3}, {1, 3}, {4, 5}, {2, 4}, {1, 5}, {3, 5}}},
+                {37, all_plate_edges},
+                {41, all_plate_edges},
+                {65, all_plate_edges}};
+            for (const auto& [nodes, edges] : plate_edges)
+                check_straight_edges(dir, {"floz3_plate", plate, {-1.36, -1.22, -1.29}, {1.31, 1.37, 1.35}, nodes, rsystem},
+                                     plate_corners, edges);
         }
     }
 }

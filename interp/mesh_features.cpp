@@ -525,18 +525,40 @@ public:
             // The nearest point of the edge to the patch may lie outside the cell where the
             // edge only clips it: then from that point pulled back into the cell, again.
             Vec p = seed;
-            bool inside = false;
+            bool inside = false, converged = false;
             for (int round = 0; round < 4 && !inside; ++round) {
                 if (round > 0)
                     for (int a = 0; a < 3; ++a) p[a] = std::clamp(p[a], cell.lo[a], cell.hi[a]);
-                if (!solve_feature(field_, {ops[k].a, ops[k].b}, 2, p, cell.h, 2 * cell.h)) break;
+                converged = solve_feature(field_, {ops[k].a, ops[k].b}, 2, p, cell.h, 2 * cell.h);
+                if (!converged) break;
                 inside = cell.contains(p, 0);
             }
             p = snapped(p);
-            if (!inside || !on_boundary(p, k, cell.h)) continue;
-            const int plus = walk(k, id, p, 1), minus = walk(k, id, p, -1);
+            uint64_t start = id;
+            if (!inside && !(converged && empty_cell_beside(id, p, start))) continue;
+            if (start != id && visited_.count(visit_key(start, k))) continue;
+            if (!on_boundary(p, k, cell.h)) continue;
+            const int plus = walk(k, start, p, 1), minus = walk(k, start, p, -1);
             if (plus >= 0 && minus >= 0 && plus != minus) add_link(plus, minus);
         }
+    }
+
+    /// Whether the edge point p found from cell `id` lies in a cell next to it (sharing a face,
+    /// an edge or a node) that has no triangles, set as `cell`: an acute edge's wedge thinner
+    /// than a cell leaves every cell along the edge empty (the 39° edge of the FLOZ3 plate at
+    /// 37 nodes), so the edge is traced from the patches beside it or not at all.
+    bool empty_cell_beside(uint64_t id, const Vec& p, uint64_t& cell) const {
+        const auto c = coords(id);
+        for (uint64_t other : cells_around(p)) {
+            if (has_patch_ && has_patch_(other)) continue;
+            const auto o = coords(other);
+            bool near = true;
+            for (int a = 0; a < 3; ++a) near &= (o[a] > c[a] ? o[a] - c[a] : c[a] - o[a]) <= 1;
+            if (!near) continue;
+            cell = other;
+            return true;
+        }
+        return false;
     }
 
     /// Phase 2: corners, then each cell's patch re-triangulated through its feature vertices;
@@ -1022,6 +1044,7 @@ private:
                 double distance;
                 std::pair<uint32_t, uint32_t> segment;
                 uint64_t face;
+                bool folds;  ///< q put in crosses another segment of the face's ring
             };
             std::vector<Candidate> candidates;
             double h = 0;
@@ -1046,7 +1069,20 @@ private:
                             if (std::fabs(u[axis] - plane) > tolerance || std::fabs(v[axis] - plane) > tolerance) continue;
                             const Vec d = sub(v, u);
                             const double s = std::clamp(dot(sub(q, u), d) / dot(d, d), 0.0, 1.0);
-                            candidates.push_back({norm(sub(q, {u[0] + s * d[0], u[1] + s * d[1], u[2] + s * d[2]})), {a, b}, face});
+                            // A face cut twice (two sheets across it): the crossing may lie beyond
+                            // the nearer segment's neighbour, and put in there the face's
+                            // boundary would cross itself (build_cell refuses it).
+                            const int e = axis == 0 ? 1 : 0, w = axis == 2 ? 1 : 2;
+                            auto flat = [&](const Vec& p) { return std::array<double, 2>{p[e], p[w]}; };
+                            bool folds = false;
+                            for (std::size_t j = 0; j < n && !folds; ++j) {
+                                const Vec &f = positions_[(*ring)[j]], &g = positions_[(*ring)[(j + 1) % n]];
+                                if (std::fabs(f[axis] - plane) > tolerance || std::fabs(g[axis] - plane) > tolerance) continue;
+                                if (std::min((*ring)[j], (*ring)[(j + 1) % n]) == a && std::max((*ring)[j], (*ring)[(j + 1) % n]) == b) continue;
+                                folds = segments_cross_2d(flat(u), flat(q), flat(f), flat(g), 1e-12 * h * h) ||
+                                        segments_cross_2d(flat(q), flat(v), flat(f), flat(g), 1e-12 * h * h);
+                            }
+                            candidates.push_back({norm(sub(q, {u[0] + s * d[0], u[1] + s * d[1], u[2] + s * d[2]})), {a, b}, face, folds});
                         }
                     }
             }
@@ -1065,9 +1101,16 @@ private:
                 x.on_mesh_vertex = true;
                 continue;
             }
+            // The nearest segment q can go into without folding its face, else the nearest.
+            double nearest_flat = std::numeric_limits<double>::infinity();
+            for (const Candidate& c : candidates)
+                if (!c.folds) nearest_flat = std::min(nearest_flat, c.distance);
+            const bool any_flat = nearest_flat <= h;
             x.segment = {UINT32_MAX, UINT32_MAX};
             for (const Candidate& c : candidates)
-                if (c.distance <= nearest + 1e-9 * h && c.segment < x.segment) x.segment = c.segment, x.face = c.face;
+                if ((any_flat ? !c.folds && c.distance <= nearest_flat + 1e-9 * h : c.distance <= nearest + 1e-9 * h) &&
+                    c.segment < x.segment)
+                    x.segment = c.segment, x.face = c.face;
             if (candidates.empty() || nearest > h) x.alive = false;
         }
     }
@@ -1278,6 +1321,10 @@ private:
                     it != tip_crossings_.end() && norm(sub(positions_[tips_[std::size_t(-1 - it->second)]],
                                                             positions_[crossings_[x].vertex])) <= distance)
                     continue;  // nearer another tip
+                bool nearer_corner = false;  // the chain's end at another corner (a short edge between two)
+                for (const Vec& c : corners)
+                    nearer_corner |= norm(sub(c, p)) > 1e-9 * h && norm(sub(c, positions_[crossings_[x].vertex])) < distance;
+                if (nearer_corner) continue;
                 tip_crossings_[int(x)] = tip;
             }
         }

@@ -88,7 +88,7 @@ void simplify_for_sign(const Tape& tape, const std::vector<Interval>& ranges, Bo
         const bool so = s.sign_only[ins.out];
         const Interval& r = ranges[ins.out];
         // ±1 for a value of one sign; a value that may be ±inf is kept (an R-formula of it is NaN).
-        if (so && r.bounded() && (r.positive() || r.negative())) {
+        if (so && (r.positive() || r.negative()) && r.bounded()) {
             s.replacement[ins.out] = constant_value(r.positive() ? 1.0 : -1.0);
             continue;
         }

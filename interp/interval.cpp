@@ -94,12 +94,18 @@ Interval not_bounded() { return kUnknownInterval; }
 FORTU_INTERVAL_INLINE Interval negated(const Interval& a) { return {-a.hi, -a.lo, a.maybe_nan}; }
 /// a + b: monotone rounding, so the bounds' sums bound the values' sums (an overflow included).
 /// ∞ + (−∞) is NaN: possible where one range reaches +∞ and the other −∞.
-FORTU_INTERVAL_INLINE Interval sum(const Interval& a, const Interval& b) {
+Interval infinite_sum(const Interval& a, const Interval& b) {
     const bool opposite_infinities = (a.hi == kInf && b.lo == -kInf) || (a.lo == -kInf && b.hi == kInf);
     Interval r{a.lo + b.lo, a.hi + b.hi, a.maybe_nan || b.maybe_nan || opposite_infinities};
     if (std::isnan(r.lo)) r.lo = -kInf;  // −∞ + ∞ at the bound: the values there are NaN or +∞
     if (std::isnan(r.hi)) r.hi = kInf;
     return r;
+}
+FORTU_INTERVAL_INLINE Interval sum(const Interval& a, const Interval& b) {
+    const Interval r{a.lo + b.lo, a.hi + b.hi, a.maybe_nan || b.maybe_nan};
+    // Finite bounds of the sum: the operands' were finite, so no ∞ − ∞ (the common case).
+    if (std::abs(r.lo) < kInf && std::abs(r.hi) < kInf) return r;
+    return infinite_sum(a, b);
 }
 /// a − b = a + (−b), bit for bit.
 FORTU_INTERVAL_INLINE Interval difference(const Interval& a, const Interval& b) { return sum(a, negated(b)); }

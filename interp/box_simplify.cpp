@@ -43,6 +43,8 @@ int choose_operand(const Instruction& ins, const std::vector<Interval>& ranges, 
         if (b.lo > a.hi) return 1;
     }
     if (!sign_only) return kNoOperand;
+    // An R-formula with α ≠ 1 gives ∞ − ∞ = NaN from an infinite operand: finite ranges only.
+    if (!is_min && !is_max && !(a.bounded() && b.bounded())) return kNoOperand;
     // sign(a & b) = sign(min(a, b)); sign(a | b) = sign(max(a, b)).
     if (conj) {
         if (a.positive()) return 1;
@@ -85,7 +87,8 @@ void simplify_for_sign(const Tape& tape, const std::vector<Interval>& ranges, Bo
         s.live_code.push_back(static_cast<uint32_t>(i));
         const bool so = s.sign_only[ins.out];
         const Interval& r = ranges[ins.out];
-        if (so && (r.positive() || r.negative())) {
+        // ±1 for a value of one sign; a value that may be ±inf is kept (an R-formula of it is NaN).
+        if (so && (r.positive() || r.negative()) && r.bounded()) {
             s.replacement[ins.out] = constant_value(r.positive() ? 1.0 : -1.0);
             continue;
         }

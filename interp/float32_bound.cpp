@@ -1,5 +1,10 @@
 // interp/float32_bound.cpp — the forward error analysis: one rule per operation, from its
-// Lipschitz bound over the widened operand ranges and the rounding of its result.
+// Lipschitz bound over the widened operand ranges and the rounding of its result. Where that
+// fails (a range with an infinite bound: 0.1/x across x = 0 in bear.vm), a value keeps the
+// range its float32 evaluation can take instead, found by the interval rules on its operands'
+// float32 ranges, widened by float32's rounding; once a result's float64 and float32 ranges
+// are both finite (exp(−30.6·max(…, |that|)) is in [0, e^c]) their hull's width bounds its
+// error, and the analysis goes on from there.
 #include "interp/float32_bound.hpp"
 
 #include <algorithm>
@@ -184,6 +189,39 @@ Error instruction_bound(const Instruction& ins, const Interval& out, const Inter
     return r;
 }
 
+/// The ops whose float32 lane kernels compute the same function as float64 on float32
+/// operands, rounded once (correctly, or by SLEEF within 2 ulps), at every argument, ±inf
+/// included: for these the interval rules bound the float32 value too.
+bool float32_range_rule(const Instruction& ins) {
+    switch (ins.op) {
+    case Op::Neg: case Op::Abs: case Op::Add: case Op::Sub: case Op::Mul: case Op::Square: case Op::Div:
+    case Op::Sqrt: case Op::Min: case Op::Max: case Op::Exp: case Op::Ln: case Op::Log2: case Op::Log10:
+        return true;
+    case Op::RAnd:
+    case Op::ROr:
+        return ins.imm == 1.0;
+    default:
+        return false;
+    }
+}
+
+/// A range of float32 results widened by one rounding (2 ulps, and float32's subnormal
+/// range); beyond 1e38 it may overflow to ±inf.
+Interval float32_rounded(Interval r) {
+    constexpr double kWiden = kFloat32Function + 0x1p-40;
+    r.lo = r.lo - std::abs(r.lo) * kWiden - kSubnormal;
+    r.hi = r.hi + std::abs(r.hi) * kWiden + kSubnormal;
+    if (r.lo < -1e38) r.lo = -kInf;
+    if (r.hi > 1e38) r.hi = kInf;
+    return r;
+}
+
+/// The range of a float32 value within `error` of a float64 value in `range`, rounded outward.
+Interval within(const Interval& range, double error) {
+    const double widen = error + (std::abs(range.lo) + std::abs(range.hi)) * 0x1p-50;
+    return {range.lo - widen, range.hi + widen, false};
+}
+
 }  // namespace
 
 double float32_error_bound(const Tape& tape, const std::vector<Interval>& ranges, std::vector<double>& errors) {
@@ -193,12 +231,28 @@ double float32_error_bound(const Tape& tape, const std::vector<Interval>& ranges
         const double low = mignitude(r);
         return Error{kFloat32Unit * magnitude(r), low > kRelativeFloor ? kFloat32Unit : kInf};
     };
-    // `errors` holds the absolute bounds; the relative ones ride in its second half.
-    errors.assign(std::size_t(tape.slot_count) * 2, kInf);
-    auto get = [&errors, &tape](uint32_t slot) { return Error{errors[slot], errors[tape.slot_count + slot]}; };
-    auto set = [&errors, &tape](uint32_t slot, Error e) {
+    // `errors` holds the absolute bounds; the relative ones ride in its second quarter. A slot
+    // whose absolute bound is +inf is loose: the range of its float32 values rides in the third
+    // and fourth quarters (NaN there: not even that is known).
+    const std::size_t n = tape.slot_count;
+    if (!tape.inputs.empty()) return kInf;   // values from elsewhere: nothing known of them
+    if (errors.size() < n * 4) errors.resize(n * 4);
+    std::fill_n(errors.begin(), n * 2, kInf);   // the ranges are written before they are read
+    auto get = [&errors, n](uint32_t slot) { return Error{errors[slot], errors[n + slot]}; };
+    auto set = [&errors, n](uint32_t slot, Error e) {
         errors[slot] = e.absolute;
-        errors[tape.slot_count + slot] = e.relative;
+        errors[n + slot] = e.relative;
+    };
+    auto set_loose = [&errors, n](uint32_t slot, const Interval& range32) {
+        errors[slot] = kInf;
+        errors[n + slot] = kInf;
+        const bool known = !range32.maybe_nan;
+        errors[2 * n + slot] = known ? range32.lo : std::numeric_limits<double>::quiet_NaN();
+        errors[3 * n + slot] = known ? range32.hi : std::numeric_limits<double>::quiet_NaN();
+    };
+    auto loose_range = [&errors, n](uint32_t slot) {
+        const double lo = errors[2 * n + slot];
+        return std::isnan(lo) ? kUnknownInterval : Interval{lo, errors[3 * n + slot], false};
     };
     for (auto [slot, axis] : tape.arguments) {
         if (!usable(ranges[slot])) return kInf;
@@ -210,9 +264,10 @@ double float32_error_bound(const Tape& tape, const std::vector<Interval>& ranges
     }
     for (const Instruction& ins : tape.code) {
         const Interval& out = ranges[ins.out];
-        if (!usable(out)) return kInf;
+        if (out.maybe_nan) return kInf;
         Interval in[ir::kMaxArity] = {};
         Error e[ir::kMaxArity] = {};
+        bool loose = false;   // an operand without a finite bound (so its range may be infinite)
         const int arity = std::min(ir::op_arity(ins.op), int(ir::kMaxArity));
         for (int k = 0; k < arity; ++k) {
             if ((ins.constant_operands >> k) & 1u) {
@@ -221,13 +276,39 @@ double float32_error_bound(const Tape& tape, const std::vector<Interval>& ranges
                 e[k] = rounded_once(in[k]);
             } else {
                 in[k] = ranges[ins.in[k]];
-                if (!usable(in[k])) return kInf;
                 e[k] = get(ins.in[k]);
+                loose = loose || !(e[k].absolute < kInf);
             }
         }
-        const Error bound = instruction_bound(ins, out, in, e);
-        if (!(bound.absolute < kFloat32Safe)) return kInf;
-        set(ins.out, bound);
+        const bool out_usable = usable(out);
+        if (!loose && out_usable) {
+            const Error bound = instruction_bound(ins, out, in, e);
+            if (bound.absolute < kFloat32Safe) {
+                set(ins.out, bound);
+                continue;
+            }
+        }
+        // The float32 value's own range, from its operands' float32 ranges.
+        if (!float32_range_rule(ins)) {
+            set_loose(ins.out, kUnknownInterval);
+            continue;
+        }
+        Interval range32[ir::kMaxArity] = {};
+        for (int k = 0; k < arity; ++k) {
+            const bool slot_operand = !((ins.constant_operands >> k) & 1u);
+            range32[k] = slot_operand && !(e[k].absolute < kInf) ? loose_range(ins.in[k]) : within(in[k], e[k].absolute);
+        }
+        const Interval result32 = float32_rounded(interval_op(ins.op, range32[0], range32[1], range32[2], ins.imm));
+        if (out_usable && result32.bounded() && !result32.maybe_nan) {
+            // Both values lie in the hull of the two ranges.
+            const double width = (std::max(out.hi, result32.hi) - std::min(out.lo, result32.lo)) * (1 + 0x1p-40);
+            if (width < kFloat32Safe) {
+                const double low = mignitude(out);
+                set(ins.out, {width, low > kRelativeFloor ? width / low * (1 + 0x1p-40) : kInf});
+                continue;
+            }
+        }
+        set_loose(ins.out, result32);
     }
     return errors[tape.root_slot];
 }

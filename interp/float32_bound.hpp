@@ -9,8 +9,10 @@
 // operation's Lipschitz bound over the operand ranges widened by their e, plus the rounding
 // of the result in both formats (correctly rounded arithmetic: 2^-24 and 2^-53 of its
 // magnitude; SLEEF's and libm's functions: 2^-22 and 2^-50), plus an absolute term for
-// float32's subnormal range. An operation without a rule (pow, tan, mod, select, …), a range
-// that may be NaN or leaves float32's range, gives +inf: that box runs in float64.
+// float32's subnormal range. A value whose range is infinite (a pole in the box) keeps the
+// range of its float32 values instead, until a result whose two ranges are finite gets their
+// hull's width as its bound. An operation without a rule (pow, tan, mod, select, …) or a range
+// that may be NaN gives +inf: that box runs in float64.
 #pragma once
 
 #include "interp/interval.hpp"

@@ -1,7 +1,9 @@
 // interp/interval.cpp — the interval kernels: the rules ops.def's interval column names,
 // dispatched by a switch generated from ops.def (one case per operation, no default). An
 // operation whose rule is not_bounded() gets kUnknownInterval, which is always correct:
-// pruning then simply does not happen for that node.
+// pruning then simply does not happen for that node. Bounds may be ±inf (interval.hpp): each
+// rule says what its operation does with infinite values (IEEE: x/0 = ±∞, ∞ − ∞, 0·∞, ∞/∞
+// and 0/0 are NaN); pow and the R-formulas with α ≠ 1 keep finite operands only.
 #include "interp/interval.hpp"
 
 #include "interp/ir/kernels.hpp"
@@ -15,21 +17,35 @@ namespace fortu {
 namespace {
 
 constexpr double kEps = std::numeric_limits<double>::epsilon();
+constexpr double kInf = std::numeric_limits<double>::infinity();
 
 /// The arithmetic rules, inlined into the tape loop's switch: left to itself the compiler
 /// called product, quotient and squared out of line (bear.vm: 5% of the sign volume's
 /// instructions in those calls alone).
 #define FORTU_INTERVAL_INLINE inline __attribute__((always_inline))
 
-/// Widening for libm results (not guaranteed correctly rounded): a few ulps each way.
+/// Widening for libm results (not guaranteed correctly rounded): a few ulps each way. A bound
+/// of ±inf stays (∓inf widens outward to itself); a low bound of +inf (f overflowed at the
+/// low end) becomes the largest double, a neighbouring point may have rounded below ∞.
 Interval widened(double lo, double hi, bool maybe_nan) {
-    return {lo - std::abs(lo) * 8 * kEps, hi + std::abs(hi) * 8 * kEps, maybe_nan};
+    constexpr double kMax = std::numeric_limits<double>::max();
+    return {lo == kInf ? kMax : lo - std::abs(lo) * 8 * kEps, hi == -kInf ? -kMax : hi + std::abs(hi) * 8 * kEps,
+            maybe_nan};
 }
 
+/// A safety net: a bound that came out NaN (or crossed) means the rule did not apply.
 FORTU_INTERVAL_INLINE Interval checked(Interval r) {
+    if (!(r.lo <= r.hi)) return kUnknownInterval;
+    return r;
+}
+
+/// For the rules that keep finite values only (pow, the R-formulas): anything else unknown.
+FORTU_INTERVAL_INLINE Interval finite_or_unknown(Interval r) {
     if (!std::isfinite(r.lo) || !std::isfinite(r.hi) || r.lo > r.hi) return kUnknownInterval;
     return r;
 }
+
+bool contains_zero(const Interval& a) { return a.lo <= 0 && a.hi >= 0; }
 
 FORTU_INTERVAL_INLINE Interval from_corners(double p, double q, double r, double s, bool maybe_nan) {
     return {std::min({p, q, r, s}), std::max({p, q, r, s}), maybe_nan};
@@ -76,20 +92,70 @@ Interval r_interval(bool conjunction, const Interval& a, const Interval& b, doub
 
 Interval not_bounded() { return kUnknownInterval; }
 FORTU_INTERVAL_INLINE Interval negated(const Interval& a) { return {-a.hi, -a.lo, a.maybe_nan}; }
-FORTU_INTERVAL_INLINE Interval sum(const Interval& a, const Interval& b) {
-    return checked({a.lo + b.lo, a.hi + b.hi, a.maybe_nan || b.maybe_nan});
+/// a + b: monotone rounding, so the bounds' sums bound the values' sums (an overflow included).
+/// ∞ + (−∞) is NaN: possible where one range reaches +∞ and the other −∞.
+Interval infinite_sum(const Interval& a, const Interval& b) {
+    const bool opposite_infinities = (a.hi == kInf && b.lo == -kInf) || (a.lo == -kInf && b.hi == kInf);
+    Interval r{a.lo + b.lo, a.hi + b.hi, a.maybe_nan || b.maybe_nan || opposite_infinities};
+    if (std::isnan(r.lo)) r.lo = -kInf;  // −∞ + ∞ at the bound: the values there are NaN or +∞
+    if (std::isnan(r.hi)) r.hi = kInf;
+    return r;
 }
-FORTU_INTERVAL_INLINE Interval difference(const Interval& a, const Interval& b) {
-    return checked({a.lo - b.hi, a.hi - b.lo, a.maybe_nan || b.maybe_nan});
+FORTU_INTERVAL_INLINE Interval sum(const Interval& a, const Interval& b) {
+    const Interval r{a.lo + b.lo, a.hi + b.hi, a.maybe_nan || b.maybe_nan};
+    // Finite bounds of the sum: the operands' were finite, so no ∞ − ∞ (the common case).
+    if (std::abs(r.lo) < kInf && std::abs(r.hi) < kInf) return r;
+    return infinite_sum(a, b);
+}
+/// a − b = a + (−b), bit for bit.
+FORTU_INTERVAL_INLINE Interval difference(const Interval& a, const Interval& b) { return sum(a, negated(b)); }
+
+/// Products with an infinite bound (out of line: rare). 0·∞ is NaN at a point; as a corner it
+/// stands for the products near it, whose extremes the other corners already give (x·y is
+/// monotone in each operand with the other fixed), so it counts as 0.
+Interval infinite_product(const Interval& a, const Interval& b, bool maybe_nan) {
+    auto corner = [](double x, double y) { return (x == 0 || y == 0) ? 0.0 : x * y; };
+    maybe_nan = maybe_nan || (contains_zero(a) && !b.bounded()) || (contains_zero(b) && !a.bounded());
+    return from_corners(corner(a.lo, b.lo), corner(a.lo, b.hi), corner(a.hi, b.lo), corner(a.hi, b.hi), maybe_nan);
 }
 FORTU_INTERVAL_INLINE Interval product(const Interval& a, const Interval& b) {
-    return checked(from_corners(a.lo * b.lo, a.lo * b.hi, a.hi * b.lo, a.hi * b.hi, a.maybe_nan || b.maybe_nan));
+    const bool maybe_nan = a.maybe_nan || b.maybe_nan;
+    if (!a.bounded() || !b.bounded()) return infinite_product(a, b, maybe_nan);
+    return from_corners(a.lo * b.lo, a.lo * b.hi, a.hi * b.lo, a.hi * b.hi, maybe_nan);  // ±inf on overflow
+}
+/// Quotients with a pole or an infinite bound (out of line: rare).
+Interval pole_quotient(const Interval& a, const Interval& b, bool maybe_nan) {
+    const bool both_infinite = !a.bounded() && !b.bounded();   // ∞/∞ is NaN
+    if (b.lo > 0 || b.hi < 0) {
+        // x/y is monotone in each operand on one side of 0: the corners bound it. An ∞/∞
+        // corner stands for the quotients near it: anything from 0 to ∞ of its sign.
+        Interval r{kInf, -kInf, maybe_nan || both_infinite};
+        for (const double x : {a.lo, a.hi})
+            for (const double y : {b.lo, b.hi}) {
+                const double q = x / y;
+                if (std::isnan(q)) {
+                    const double far = (x > 0) == (y > 0) ? kInf : -kInf;
+                    r.lo = std::min({r.lo, 0.0, far});
+                    r.hi = std::max({r.hi, 0.0, far});
+                } else {
+                    r.lo = std::min(r.lo, q);
+                    r.hi = std::max(r.hi, q);
+                }
+            }
+        return r;
+    }
+    // b may be 0, or −0: x/±0 is ±∞ of either sign, 0/0 is NaN.
+    if (a.lo == 0 && a.hi == 0) return {0.0, 0.0, true};   // 0/y = ±0 where y ≠ 0
+    return {-kInf, kInf, maybe_nan || contains_zero(a) || both_infinite};
 }
 FORTU_INTERVAL_INLINE Interval quotient(const Interval& a, const Interval& b) {
-    if (!(b.lo > 0 || b.hi < 0)) return kUnknownInterval;
-    return checked(from_corners(a.lo / b.lo, a.lo / b.hi, a.hi / b.lo, a.hi / b.hi, a.maybe_nan || b.maybe_nan));
+    const bool maybe_nan = a.maybe_nan || b.maybe_nan;
+    if (!(b.lo > 0 || b.hi < 0) || !a.bounded() || !b.bounded()) return pole_quotient(a, b, maybe_nan);
+    return from_corners(a.lo / b.lo, a.lo / b.hi, a.hi / b.lo, a.hi / b.hi, maybe_nan);  // ±inf on overflow
 }
 Interval power(const Interval& a, const Interval& b) {
+    // std::pow's special values at ±inf and 0^-n are not worth rules: finite operands only.
+    if (!a.bounded() || !b.bounded()) return kUnknownInterval;
     // A constant whole exponent n (X^2 in scripts): monotone in a for odd n, in |a|
     // for even n; std::pow is within an ulp there.
     if (b.lo == b.hi && !b.maybe_nan && b.lo == std::floor(b.lo) && std::abs(b.lo) <= 64 &&
@@ -99,20 +165,21 @@ Interval power(const Interval& a, const Interval& b) {
         double lo = std::pow(a.lo, n), hi = std::pow(a.hi, n);
         if (lo > hi) std::swap(lo, hi);
         if (even && a.lo < 0 && a.hi > 0) lo = 0;  // n > 0 here (a straddles 0)
-        return checked(widened(lo, hi, a.maybe_nan));
+        return finite_or_unknown(widened(lo, hi, a.maybe_nan));
     }
     // a > 0: monotone in each operand, so the corners bound it.
     if (a.lo > 0) {
         const Interval r = from_corners(std::pow(a.lo, b.lo), std::pow(a.lo, b.hi), std::pow(a.hi, b.lo),
                                         std::pow(a.hi, b.hi), a.maybe_nan || b.maybe_nan);
-        return checked(widened(r.lo, r.hi, r.maybe_nan));
+        return finite_or_unknown(widened(r.lo, r.hi, r.maybe_nan));
     }
     return kUnknownInterval;
 }
+/// (±∞)² = +∞, an overflow +∞: no NaN from numbers.
 FORTU_INTERVAL_INLINE Interval squared(const Interval& a) {
-    if (a.lo >= 0) return checked({a.lo * a.lo, a.hi * a.hi, a.maybe_nan});
-    if (a.hi <= 0) return checked({a.hi * a.hi, a.lo * a.lo, a.maybe_nan});
-    return checked({0.0, std::max(a.lo * a.lo, a.hi * a.hi), a.maybe_nan});
+    if (a.lo >= 0) return {a.lo * a.lo, a.hi * a.hi, a.maybe_nan};
+    if (a.hi <= 0) return {a.hi * a.hi, a.lo * a.lo, a.maybe_nan};
+    return {0.0, std::max(a.lo * a.lo, a.hi * a.hi), a.maybe_nan};
 }
 FORTU_INTERVAL_INLINE Interval square_root(const Interval& a) {
     if (a.hi < 0) return kUnknownInterval;
@@ -123,11 +190,12 @@ FORTU_INTERVAL_INLINE Interval absolute(const Interval& a) {
     if (a.hi <= 0) return {-a.hi, -a.lo, a.maybe_nan};
     return {0.0, std::max(-a.lo, a.hi), a.maybe_nan};
 }
-/// f non-decreasing (a libm function: widened).
+/// f non-decreasing (a libm function: widened); exp, atan, sinh, tanh are defined at ±∞
+/// (exp(−∞) = 0).
 Interval increasing(const Interval& a, double (*f)(double)) { return checked(widened(f(a.lo), f(a.hi), a.maybe_nan)); }
-/// f non-decreasing where x > 0, undefined elsewhere (logarithms).
+/// f non-decreasing where x ≥ 0, NaN below (logarithms: log(±0) = −∞, log(+∞) = +∞).
 Interval increasing_above_zero(const Interval& a, double (*f)(double)) {
-    if (!(a.lo > 0)) return kUnknownInterval;
+    if (!(a.lo >= 0)) return kUnknownInterval;
     return increasing(a, f);
 }
 /// f non-decreasing and exact (sign, floor, ceil: no rounding to widen for).
@@ -140,7 +208,11 @@ Interval arccosine(const Interval& a) {
     if (a.lo < -1 || a.hi > 1) return kUnknownInterval;
     return widened(std::acos(a.hi), std::acos(a.lo), a.maybe_nan);
 }
-Interval sine(const Interval& a, double shift) { return sin_interval(a, shift); }
+/// sin(±∞) is NaN.
+Interval sine(const Interval& a, double shift) {
+    if (!a.bounded()) return {-1.0, 1.0, true};
+    return sin_interval(a, shift);
+}
 Interval hyperbolic_cosine(const Interval& a) {
     const double m = std::max(std::abs(a.lo), std::abs(a.hi));
     const double lo = (a.lo <= 0 && a.hi >= 0) ? 1.0 : std::cosh(std::min(std::abs(a.lo), std::abs(a.hi)));
@@ -167,8 +239,12 @@ Interval selected(const Interval& c, const Interval& x, const Interval& y) {
     if (c.hi <= 0 && !c.maybe_nan) return y;
     return {std::min(x.lo, y.lo), std::max(x.hi, y.hi), c.maybe_nan || x.maybe_nan || y.maybe_nan};
 }
+/// With α = 1 the R-operation is min/max (∞ allowed); the other formulas give ∞ − ∞ from an
+/// infinite operand: finite operands and results only.
 Interval r_operation(bool conjunction, const Interval& a, const Interval& b, double alpha) {
-    return checked(r_interval(conjunction, a, b, alpha));
+    if (alpha == 1.0) return r_interval(conjunction, a, b, alpha);
+    if (!a.bounded() || !b.bounded()) return kUnknownInterval;
+    return finite_or_unknown(r_interval(conjunction, a, b, alpha));
 }
 
 /// The rules' dispatch, inlined into the tape loop below (a call per instruction cost a

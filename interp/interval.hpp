@@ -2,10 +2,14 @@
 // rendering (sign_render.hpp): the value range of a node over a box of the domain.
 //
 // Contract: for every point of the box, the value the engines compute (double, the shared
-// kernels) lies in [lo, hi], or is NaN only when `maybe_nan` is set. Bounds are always finite;
-// an operation that could give ±inf, or whose range we do not bound, gives kUnknown. Add,
-// sub, mul, div, sqrt, min, max are correctly rounded and monotone, so their bounds hold
-// exactly; libm functions and the R-operations' formulas are widened by a few ulps.
+// kernels) lies in [lo, hi], or is NaN only when `maybe_nan` is set; lo <= hi. A bound may be
+// ±inf, and then the value itself may be ±inf there (1/x across x = 0 is [−∞, +∞], a number
+// at every point; exp of it is [0, +∞]); a finite bound means every value is finite on that
+// side. An operation whose range we do not bound gives kUnknownInterval (−∞..+∞, maybe NaN).
+// Add, sub, mul, div, sqrt, min, max are correctly rounded and monotone, so their bounds
+// hold exactly, overflow to ±inf included; ∞ − ∞, 0·∞, ∞/∞ and 0/0 set maybe_nan where an
+// operand's range allows them; libm functions and the R-operations' formulas are widened by a
+// few ulps. Users that need finite bounds (widths, midpoints, the R-formulas) ask bounded().
 #pragma once
 
 #include "interp/ir/ir.hpp"
@@ -25,7 +29,15 @@ struct Interval {
     bool positive() const { return lo > 0 && !maybe_nan; }
     /// Every point is < 0 (and a number).
     bool negative() const { return hi < 0 && !maybe_nan; }
-    bool unknown() const { return lo == -std::numeric_limits<double>::infinity(); }
+    /// Nothing known: any number, ±inf or NaN.
+    bool unknown() const {
+        return maybe_nan && lo == -std::numeric_limits<double>::infinity() &&
+               hi == std::numeric_limits<double>::infinity();
+    }
+    /// Both bounds finite: every value is a finite number (or NaN, if maybe_nan).
+    bool bounded() const {
+        return lo > -std::numeric_limits<double>::infinity() && hi < std::numeric_limits<double>::infinity();
+    }
 };
 
 inline constexpr Interval kUnknownInterval{-std::numeric_limits<double>::infinity(),

@@ -52,6 +52,14 @@ constexpr int kLaneStride = std::max(kLeafLanes, kLeafLanes3d);
 constexpr int kSplitLeafExtent3d = 4;
 constexpr double kUnbounded = std::numeric_limits<double>::infinity();
 
+/// A 3D leaf's float32 bound that reaches the largest |value| its interval allows helps no
+/// point, so the leaf splits as if it had none: a finite but loose bound across a pole
+/// (bear.vm's exp(−30.6·max(…, |0.1/x|)) is within [0, 1] in both precisions) would
+/// otherwise send the whole 8³ leaf to float64 instead of its 4³ parts to tighter intervals.
+double useful_bound(double bound, const Interval& root) {
+    return bound < std::max(std::abs(root.lo), std::abs(root.hi)) ? bound : kUnbounded;
+}
+
 struct Scratch {
     std::vector<Interval> ranges;
     BoxScratch box;
@@ -184,7 +192,8 @@ public:
             // Where the parent's tape had no finite bound over this box, its shortened tape
             // is not tried first: it rarely has one (bear.vm 128³: 3% fewer instructions).
             const bool splits = grid_.slices() > 1 && box.hi[0] - box.lo[0] + 1 > kSplitLeafExtent3d;
-            const double bound = splits && !(parent_bound < kUnbounded) ? kUnbounded : float32_bound(box, simplified, s);
+            double bound = splits && !(parent_bound < kUnbounded) ? kUnbounded : float32_bound(box, simplified, s);
+            if (splits && bound < kUnbounded) bound = useful_bound(bound, s.leaf_ranges[simplified.root_slot]);
             if (!(bound < kUnbounded) && splits) {
                 for (const Box& child : split_in_place(box)) render(child, simplified, s, depth + 1, st);
                 return;
@@ -319,7 +328,7 @@ public:
                                       double& bound) {
         bound = kUnbounded;
         if (tape.slot_count > kReallocateAboveSlots) return false;
-        bound = float32_error_bound(tape, s.ranges, s.errors);
+        bound = useful_bound(float32_error_bound(tape, s.ranges, s.errors), s.ranges[tape.root_slot]);
         if (!evaluate_points_float32(box, tape, bound, s)) return false;
         st.leaf_points += box.points();
         st.leaf_operations += box.points() * tape.code.size();

@@ -4,14 +4,17 @@
 #include "interp/sign_render.hpp"
 
 #include "interp/box_halving.hpp"
+#include "interp/box_intervals.hpp"
 #include "interp/box_simplify.hpp"
 #include "interp/float32_bound.hpp"
 #include "interp/interval.hpp"
 #include "interp/lane_kernel.hpp"
 #include "interp/parallel.hpp"
+#include "interp/quadrant_intervals.hpp"
 #include "interp/tape.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <exception>
 #include <limits>
@@ -52,8 +55,18 @@ constexpr int kLaneStride = std::max(kLeafLanes, kLeafLanes3d);
 constexpr int kSplitLeafExtent3d = 4;
 constexpr double kUnbounded = std::numeric_limits<double>::infinity();
 
+/// One level of the 2D walk: the four quadrants' intervals and choices, and the tape of the
+/// quadrant being walked.
+struct QuadrantLevel {
+    QuadrantScratch intervals;
+    std::array<std::vector<uint8_t>, 4> choices;
+    std::array<Interval, 4> roots;
+    Tape tape;
+};
+
 struct Scratch {
     std::vector<Interval> ranges;
+    std::vector<uint8_t> choices;   ///< per instruction of the box's tape (box_choice.hpp)
     BoxScratch box;
     std::vector<double> lanes;
     std::vector<double*> slots;
@@ -63,6 +76,7 @@ struct Scratch {
     std::vector<double> errors;
     std::vector<std::size_t> close_points;    ///< grid indices rechecked in float64
     std::vector<std::unique_ptr<Tape>> tapes;  ///< one per recursion depth
+    std::vector<std::unique_ptr<QuadrantLevel>> quadrant_levels;  ///< one per recursion depth (2D)
     Tape leaf_tape;                             ///< a long leaf tape in max-live slots
     SlotScratch slot_scratch;
 };
@@ -112,19 +126,24 @@ public:
     std::optional<double> decide(const Box& box, const Tape& tape, Scratch& s, Tape& simplified,
                                  SignRenderStats& st) const {
         if (const std::optional<double> sign = interval_sign(box, tape, s, st)) return sign;
-        simplify_for_sign(tape, s.ranges, s.box, simplified);
+        simplify_for_sign(tape, s.choices, s.box, simplified);
         return std::nullopt;
     }
 
     /// The box's intervals (into s.ranges): the sign of the whole box when they decide it.
     std::optional<double> interval_sign(const Box& box, const Tape& tape, Scratch& s, SignRenderStats& st) const {
         ++st.boxes;
-        evaluate_intervals(tape, {axis_interval(box, 0), axis_interval(box, 1), axis_interval(box, 2)}, s.ranges);
-        const Interval& r = s.ranges[tape.root_slot];
-        if (r.positive() || r.negative() || (r.lo == 0 && r.hi == 0 && !r.maybe_nan)) {
-            st.decided_points += box.points();
+        evaluate_box_intervals(tape, {axis_interval(box, 0), axis_interval(box, 1), axis_interval(box, 2)}, s.ranges,
+                               s.choices);
+        const std::optional<double> sign = decided_sign(s.ranges[tape.root_slot]);
+        if (sign) st.decided_points += box.points();
+        return sign;
+    }
+
+    /// The sign of a whole box whose root ranges over `r`, where the range decides it.
+    static std::optional<double> decided_sign(const Interval& r) {
+        if (r.positive() || r.negative() || (r.lo == 0 && r.hi == 0 && !r.maybe_nan))
             return r.positive() ? 1.0 : r.negative() ? -1.0 : 0.0;
-        }
         return std::nullopt;
     }
 
@@ -176,7 +195,7 @@ public:
         }
         double parent_bound = 0.0;
         if (grid_.slices() > 1 && is_leaf(box) && evaluate_points_unsimplified(box, tape, s, st, parent_bound)) return;
-        simplify_for_sign(tape, s.ranges, s.box, simplified);
+        simplify_for_sign(tape, s.choices, s.box, simplified);
         if (is_leaf(box)) {
             // A 3D leaf whose float32 bound is not finite over the whole box: its parts have
             // tighter intervals (bear.vm's sums of exponentials), so they try again; the
@@ -192,7 +211,43 @@ public:
             evaluate_points(box, simplified, bound, s, st);
             return;
         }
+        if (grid_.slices() == 1) {
+            render_quadrants(box, simplified, s, depth + 1, st);
+            return;
+        }
         for (const Box& child : split_in_place(box)) render(child, simplified, s, depth + 1, st);
+    }
+
+    /// Depth-first in 2D: the four quadrants of `box` on the box's shortened tape, their
+    /// intervals in one walk of it (quadrant_intervals.hpp); each undecided quadrant is
+    /// shortened from its choices and walked the same way, down to the leaves.
+    void render_quadrants(const Box& box, const Tape& tape, Scratch& s, std::size_t depth, SignRenderStats& st) {
+        const Parts parts = split_in_place(box);
+        if (parts.count != 4) {   // a box one node wide or high: its halves one by one
+            for (const Box& child : parts) render(child, tape, s, depth, st);
+            return;
+        }
+        while (s.quadrant_levels.size() <= depth) s.quadrant_levels.push_back(std::make_unique<QuadrantLevel>());
+        QuadrantLevel& level = *s.quadrant_levels[depth];
+        std::array<std::array<Interval, 3>, 4> axes;
+        for (int q = 0; q < 4; ++q)
+            for (int a = 0; a < 3; ++a) axes[q][a] = axis_interval(parts.box[q], a);
+        evaluate_quadrant_intervals(tape, axes, level.intervals, level.choices, level.roots);
+        st.boxes += 4;
+        for (int q = 0; q < 4; ++q) {
+            const Box& child = parts.box[q];
+            if (const std::optional<double> sign = decided_sign(level.roots[q])) {
+                st.decided_points += child.points();
+                if (*sign != kBackgroundSign) fill(child, *sign);
+                continue;
+            }
+            simplify_for_sign(tape, level.choices[q], s.box, level.tape);
+            if (is_leaf(child)) {
+                evaluate_points(child, level.tape, float32_bound(child, level.tape, s), s, st);
+                continue;
+            }
+            render_quadrants(child, level.tape, s, depth + 1, st);
+        }
     }
 
     /// Calls body(width) with the box's width as a compile-time constant for the leaves'
@@ -237,7 +292,8 @@ public:
     /// tapes too long to run in SSA slots.
     double float32_bound(const Box& box, const Tape& tape, Scratch& s) const {
         if (tape.slot_count > kReallocateAboveSlots) return kUnbounded;
-        evaluate_intervals(tape, {axis_interval(box, 0), axis_interval(box, 1), axis_interval(box, 2)}, s.leaf_ranges);
+        evaluate_box_intervals(tape, {axis_interval(box, 0), axis_interval(box, 1), axis_interval(box, 2)},
+                               s.leaf_ranges, s.choices);
         return float32_error_bound(tape, s.leaf_ranges, s.errors);
     }
 

@@ -218,6 +218,59 @@ public:
         for (const Box& child : split_in_place(box)) render(child, simplified, s, depth + 1, st);
     }
 
+    /// A box of the breadth-first levels (2D) and a tape valid over it whose intervals over
+    /// the box are known not to decide it: its parts, split as render_quadrants splits them,
+    /// decided into `decided` or with their shortened tapes into `undecided` (the box's own
+    /// tape where a part barely shortens it: the copy is not worth it).
+    struct Part {
+        Box box;
+        std::shared_ptr<const Tape> tape;
+    };
+    void split_step(const Box& box, const std::shared_ptr<const Tape>& tape, Scratch& s, SignRenderStats& st,
+                    std::vector<std::pair<Box, double>>& decided, std::vector<Part>& undecided) {
+        const Parts parts = split_in_place(box);
+        auto keep = [&](const Box& child, std::shared_ptr<Tape> shortened) {
+            if (shortened->code.size() * 8 > tape->code.size() * 7) undecided.push_back({child, tape});
+            else undecided.push_back({child, std::move(shortened)});
+        };
+        if (parts.count != 4) {
+            for (const Box& child : parts) {
+                if (const std::optional<double> sign = interval_sign(child, *tape, s, st)) {
+                    decided.emplace_back(child, *sign);
+                    continue;
+                }
+                auto shortened = std::make_shared<Tape>();
+                simplify_for_sign(*tape, s.choices, s.box, *shortened);
+                keep(child, std::move(shortened));
+            }
+            return;
+        }
+        if (s.quadrant_levels.empty()) s.quadrant_levels.push_back(std::make_unique<QuadrantLevel>());
+        QuadrantLevel& level = *s.quadrant_levels[0];
+        std::array<std::array<Interval, 3>, 4> axes;
+        for (int q = 0; q < 4; ++q)
+            for (int a = 0; a < 3; ++a) axes[q][a] = axis_interval(parts.box[q], a);
+        evaluate_quadrant_intervals(*tape, axes, level.intervals, level.choices, level.roots);
+        st.boxes += 4;
+        for (int q = 0; q < 4; ++q) {
+            if (const std::optional<double> sign = decided_sign(level.roots[q])) {
+                st.decided_points += parts.box[q].points();
+                decided.emplace_back(parts.box[q], *sign);
+                continue;
+            }
+            auto shortened = std::make_shared<Tape>();
+            simplify_for_sign(*tape, level.choices[q], s.box, *shortened);
+            keep(parts.box[q], std::move(shortened));
+        }
+    }
+
+    /// A box of the breadth-first levels (2D) whose tape is valid over it and whose intervals
+    /// do not decide it, to the end: a leaf's points, or its quadrants.
+    void render_undecided(const Box& box, const Tape& tape, Scratch& s, SignRenderStats& st) {
+        if (is_leaf(box)) evaluate_points(box, tape, float32_bound(box, tape, s), s, st);
+        else render_quadrants(box, tape, s, 0, st);
+    }
+
     /// Depth-first in 2D: the four quadrants of `box` on the box's shortened tape, their
     /// intervals in one walk of it (quadrant_intervals.hpp); each undecided quadrant is
     /// shortened from its choices and walked the same way, down to the leaves.
@@ -463,7 +516,38 @@ void render_signs(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
                              std::make_shared<const Tape>(compile_tape(graph, TapeSpec{{root}, {}, {}, /*reuse_slots=*/false}))}};
     std::vector<Decided> decided;
     const std::size_t enough = std::size_t(16) * threads;
-    for (bool split_any = true; split_any && items.size() < enough;) {
+    // 2D: the root's own intervals, then each level's quadrants in one walk of their box's
+    // tape (render_quadrants), so the items carry tapes already shortened for their box.
+    const bool quadrants = grid.slices() == 1;
+    if (quadrants) {
+        const Item root_item = items[0];
+        items.clear();
+        auto shortened = std::make_shared<Tape>();
+        if (const std::optional<double> sign = renderer.decide(root_item.box, *root_item.tape, scratch[0], *shortened,
+                                                               worker_stats[0]))
+            decided.push_back({root_item.box, *sign});
+        else
+            items.push_back({root_item.box, std::move(shortened)});
+    }
+    for (bool split_any = true; quadrants && split_any && !items.empty() && items.size() < enough;) {
+        std::vector<std::vector<std::pair<Box, double>>> decided_parts(items.size());
+        std::vector<std::vector<typename Renderer<Signs>::Part>> parts(items.size());
+        parallel_for(items.size(), quiet, [&](std::size_t i, int worker) {
+            if (renderer.is_leaf(items[i].box)) parts[i].push_back({items[i].box, items[i].tape});
+            else renderer.split_step(items[i].box, items[i].tape, scratch[worker], worker_stats[worker], decided_parts[i], parts[i]);
+            return std::size_t{0};
+        });
+        std::vector<Item> next;
+        split_any = false;
+        for (std::size_t i = 0; i < items.size(); ++i) {
+            for (const auto& [box, sign] : decided_parts[i]) decided.push_back({box, sign});
+            split_any |= !renderer.is_leaf(items[i].box);
+            for (const auto& part : parts[i]) next.push_back({part.box, part.tape});
+        }
+        items = std::move(next);
+        if (options.cancel && options.cancel->load()) break;
+    }
+    for (bool split_any = true; !quadrants && split_any && items.size() < enough;) {
         std::vector<std::vector<Item>> children(items.size());
         std::vector<std::optional<double>> signs(items.size());
         parallel_for(items.size(), quiet, [&](std::size_t i, int worker) {
@@ -501,7 +585,8 @@ void render_signs(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
     if (options.progress && decided_points > 0) options.progress(decided_points);
 
     parallel_for(items.size(), options, [&](std::size_t i, int worker) {
-        renderer.render(items[i].box, *items[i].tape, scratch[worker], 0, worker_stats[worker]);
+        if (quadrants) renderer.render_undecided(items[i].box, *items[i].tape, scratch[worker], worker_stats[worker]);
+        else renderer.render(items[i].box, *items[i].tape, scratch[worker], 0, worker_stats[worker]);
         return items[i].box.points();
     });
     if (options.cancel && options.cancel->load())

@@ -1,13 +1,15 @@
-// interp/box_simplify.cpp — interval evaluation of an SSA tape and its per-box shortening.
+// interp/box_simplify.cpp — the per-box shortening of an SSA tape: a backward pass that
+// marks what each live value needs of its operands (box_choice.hpp says which operand a
+// min/max wins with), then a forward pass that copies the kept instructions renumbered.
 #include "interp/box_simplify.hpp"
 
 namespace fortu {
 namespace {
 
-using ir::Op;
-
 constexpr uint32_t kItself = ~uint32_t{0};
-constexpr int kNoOperand = -1;
+/// What a user demands of a slot (BoxScratch::demand): only its sign, or its value.
+constexpr uint8_t kDemandSign = 1;
+constexpr uint8_t kDemandValue = 2;
 
 bool is_immediate(const Instruction& ins, int k) { return (ins.constant_operands >> k) & 1u; }
 
@@ -16,99 +18,55 @@ Interval operand_range(const Instruction& ins, int k, const std::vector<Interval
     return ranges[ins.in[k]];
 }
 
-/// The operand (0, 1, 2) that the instruction equals over the whole box — for the value,
-/// or for the sign when only the sign is demanded; kNoOperand when none does.
-int choose_operand(const Instruction& ins, const std::vector<Interval>& ranges, bool sign_only) {
-    if (ins.op == Op::Select) {
-        const Interval c = operand_range(ins, 0, ranges);
-        if (c.positive()) return 1;
-        if (c.hi <= 0 && !c.maybe_nan) return 2;
-        return kNoOperand;
-    }
-    const bool is_min = ins.op == Op::Min || (ins.op == Op::RAnd && ins.imm == 1.0);
-    const bool is_max = ins.op == Op::Max || (ins.op == Op::ROr && ins.imm == 1.0);
-    const bool conj = is_min || ins.op == Op::RAnd;
-    const bool disj = is_max || ins.op == Op::ROr;
-    if (!conj && !disj) return kNoOperand;
-    const Interval a = operand_range(ins, 0, ranges);
-    const Interval b = operand_range(ins, 1, ranges);
-    const bool numbers = !a.maybe_nan && !b.maybe_nan;
-    // Exact: one operand is the minimum (maximum) at every point.
-    if (is_min && numbers) {
-        if (a.hi < b.lo) return 0;
-        if (b.hi < a.lo) return 1;
-    }
-    if (is_max && numbers) {
-        if (a.lo > b.hi) return 0;
-        if (b.lo > a.hi) return 1;
-    }
-    if (!sign_only) return kNoOperand;
-    // An R-formula with α ≠ 1 gives ∞ − ∞ = NaN from an infinite operand: finite ranges only.
-    if (!is_min && !is_max && !(a.bounded() && b.bounded())) return kNoOperand;
-    // sign(a & b) = sign(min(a, b)); sign(a | b) = sign(max(a, b)).
-    if (conj) {
-        if (a.positive()) return 1;
-        if (b.positive()) return 0;
-        if (a.negative() && !b.maybe_nan) return 0;
-        if (b.negative() && !a.maybe_nan) return 1;
-    } else {
-        if (a.negative()) return 1;
-        if (b.negative()) return 0;
-        if (a.positive() && !b.maybe_nan) return 0;
-        if (b.positive() && !a.maybe_nan) return 1;
-    }
-    return kNoOperand;
-}
-
 BoxScratch::Value constant_value(double number) { return {0, true, number}; }
 
-}  // namespace
-
-void simplify_for_sign(const Tape& tape, const std::vector<Interval>& ranges, BoxScratch& s, Tape& out,
-                       bool keep_values) {
+/// The shortening, with `choice_of(i)` the choice byte of instruction i (box_choice.hpp).
+template <class ChoiceOf>
+void simplify(const Tape& tape, ChoiceOf choice_of, BoxScratch& s, Tape& out, bool keep_values) {
+    using namespace box_choice;
     const uint32_t slots = tape.slot_count;
-    s.live.assign(slots, 0);
-    s.sign_only.assign(slots, 1);
-    s.replacement.assign(slots, BoxScratch::Value{kItself, false, 0.0});
-    s.renamed.resize(slots);
+    s.demand.assign(slots, 0);
+    if (s.replacement.size() < slots) s.replacement.resize(slots);
+    if (s.renamed.size() < slots) s.renamed.resize(slots);
     s.live_code.clear();
-    s.live[tape.root_slot] = 1;
-    s.sign_only[tape.root_slot] = keep_values ? 0 : 1;
     // Local pointers: through the vectors the compiler reloads each one's data pointer after
     // every store (they might alias), in the tightest loop of this pass.
-    uint8_t* const live = s.live.data();
+    uint8_t* const demand = s.demand.data();
+    BoxScratch::Value* const replacement = s.replacement.data();
+    demand[tape.root_slot] = keep_values ? kDemandValue : kDemandSign;
 
     // Backward: what each live value needs of its operands (users come after operands). The
     // live instructions are listed, so the forward pass does not walk the dead ones again
     // (most of a long tape over a small box; the dead-or-live branch there was mispredicted).
+    const Instruction* const code = tape.code.data();
     for (std::size_t i = tape.code.size(); i-- > 0;) {
-        const Instruction& ins = tape.code[i];
-        if (!live[ins.out]) continue;
+        const Instruction& ins = code[i];
+        const uint8_t wanted = demand[ins.out];
+        if (!wanted) continue;
         s.live_code.push_back(static_cast<uint32_t>(i));
-        const bool so = s.sign_only[ins.out];
-        const Interval& r = ranges[ins.out];
-        // ±1 for a value of one sign; a value that may be ±inf is kept (an R-formula of it is NaN).
-        if (so && (r.positive() || r.negative()) && r.bounded()) {
-            s.replacement[ins.out] = constant_value(r.positive() ? 1.0 : -1.0);
+        const bool so = wanted == kDemandSign;
+        const uint8_t choice = choice_of(i);
+        if (so && (choice & (kPositive | kNegative))) {
+            replacement[ins.out] = constant_value(choice & kPositive ? 1.0 : -1.0);
             continue;
         }
-        const int choice = choose_operand(ins, ranges, so);
-        if (choice != kNoOperand) {
-            if (is_immediate(ins, choice)) {
-                s.replacement[ins.out] = constant_value(ins.constant[choice]);
+        const int chosen = so ? sign_operand(choice) : value_operand(choice);
+        if (chosen != kNone) {
+            if (is_immediate(ins, chosen)) {
+                replacement[ins.out] = constant_value(ins.constant[chosen]);
             } else {
-                const uint32_t operand = ins.in[choice];
-                s.replacement[ins.out] = {operand, false, 0.0};
-                live[operand] = 1;
-                s.sign_only[operand] &= so;
+                const uint32_t operand = ins.in[chosen];
+                replacement[ins.out] = {operand, false, 0.0};
+                demand[operand] |= so ? kDemandSign : kDemandValue;
             }
             continue;
         }
+        replacement[ins.out].slot = kItself;
+        replacement[ins.out].constant = false;
         const int arity = ir::op_arity(ins.op);
         for (int k = 0; k < arity; ++k) {
             if (is_immediate(ins, k)) continue;
-            live[ins.in[k]] = 1;
-            s.sign_only[ins.in[k]] &= (so && ir::passes_sign(ins.op, k)) ? 1 : 0;
+            demand[ins.in[k]] |= (so && ir::passes_sign(ins.op, k)) ? kDemandSign : kDemandValue;
         }
     }
 
@@ -122,14 +80,15 @@ void simplify_for_sign(const Tape& tape, const std::vector<Interval>& ranges, Bo
     out.zero_slot = 0;
     uint32_t next_slot = 1;
     for (auto [slot, axis] : tape.arguments) {
-        if (!live[slot]) continue;
+        if (!demand[slot]) continue;
         s.renamed[slot] = {next_slot, false, 0.0};
         out.arguments.emplace_back(next_slot++, axis);
     }
     for (auto [slot, value] : tape.constants) s.renamed[slot] = constant_value(value);
+    out.code.reserve(s.live_code.size());
     for (std::size_t k = s.live_code.size(); k-- > 0;) {
-        const Instruction& ins = tape.code[s.live_code[k]];
-        const BoxScratch::Value& rep = s.replacement[ins.out];
+        const Instruction& ins = code[s.live_code[k]];
+        const BoxScratch::Value& rep = replacement[ins.out];
         if (rep.constant) {
             s.renamed[ins.out] = rep;
             continue;
@@ -165,6 +124,23 @@ void simplify_for_sign(const Tape& tape, const std::vector<Interval>& ranges, Bo
     out.outputs.push_back(out.root_slot);
     out.slot_count = next_slot;
     out.node_count = out.code.size() + out.arguments.size() + out.constants.size();
+}
+
+}  // namespace
+
+void simplify_for_sign(const Tape& tape, const std::vector<Interval>& ranges, BoxScratch& s, Tape& out,
+                       bool keep_values) {
+    // The choices of the live instructions only, from their ranges.
+    auto choice_of = [&](std::size_t i) {
+        const Instruction& ins = tape.code[i];
+        return instruction_choice(ins, ranges[ins.out], operand_range(ins, 0, ranges), operand_range(ins, 1, ranges),
+                                  operand_range(ins, 2, ranges));
+    };
+    simplify(tape, choice_of, s, out, keep_values);
+}
+
+void simplify_for_sign(const Tape& tape, const std::vector<uint8_t>& choices, BoxScratch& s, Tape& out) {
+    simplify(tape, [&choices](std::size_t i) { return choices[i]; }, s, out, false);
 }
 
 }  // namespace fortu

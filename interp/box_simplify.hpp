@@ -12,6 +12,7 @@
 // same lane kernel (prospero.vm's 6,361 operations become a few dozen at most leaves).
 #pragma once
 
+#include "interp/box_choice.hpp"
 #include "interp/interval.hpp"
 #include "interp/tape.hpp"
 
@@ -28,9 +29,8 @@ struct BoxScratch {
         bool constant = false;
         double number = 0.0;
     };
-    std::vector<uint8_t> live;
-    std::vector<uint8_t> sign_only;
-    std::vector<Value> replacement;   ///< per slot of the input: what replaces it (slot = ~0: itself)
+    std::vector<uint8_t> demand;      ///< per slot of the input: 0 dead, else kDemandSign | kDemandValue
+    std::vector<Value> replacement;   ///< per slot of a live instruction: what replaces it (slot = ~0: itself)
     std::vector<Value> renamed;       ///< per slot of the input: its value in the output
     std::vector<uint32_t> live_code;  ///< indices of the live instructions, last first
 };
@@ -45,5 +45,9 @@ struct BoxScratch {
 /// Newton steps, mesher.hpp).
 void simplify_for_sign(const Tape& tape, const std::vector<Interval>& ranges, BoxScratch& scratch, Tape& out,
                        bool keep_values = false);
+
+/// simplify_for_sign for the sign, from the choice bytes of the box (one per instruction
+/// of `tape`, instruction_choice of its ranges) instead of its ranges: the same tape.
+void simplify_for_sign(const Tape& tape, const std::vector<uint8_t>& choices, BoxScratch& scratch, Tape& out);
 
 }  // namespace fortu

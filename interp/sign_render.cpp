@@ -4,14 +4,17 @@
 #include "interp/sign_render.hpp"
 
 #include "interp/box_halving.hpp"
+#include "interp/box_intervals.hpp"
 #include "interp/box_simplify.hpp"
 #include "interp/float32_bound.hpp"
 #include "interp/interval.hpp"
 #include "interp/lane_kernel.hpp"
 #include "interp/parallel.hpp"
+#include "interp/quadrant_intervals.hpp"
 #include "interp/tape.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <exception>
 #include <limits>
@@ -60,8 +63,18 @@ double useful_bound(double bound, const Interval& root) {
     return bound < std::max(std::abs(root.lo), std::abs(root.hi)) ? bound : kUnbounded;
 }
 
+/// One level of the 2D walk: the four quadrants' intervals and choices, and the tape of the
+/// quadrant being walked.
+struct QuadrantLevel {
+    QuadrantScratch intervals;
+    std::array<std::vector<uint8_t>, 4> choices;
+    std::array<Interval, 4> roots;
+    Tape tape;
+};
+
 struct Scratch {
     std::vector<Interval> ranges;
+    std::vector<uint8_t> choices;   ///< per instruction of the box's tape (box_choice.hpp)
     BoxScratch box;
     std::vector<double> lanes;
     std::vector<double*> slots;
@@ -71,6 +84,7 @@ struct Scratch {
     std::vector<double> errors;
     std::vector<std::size_t> close_points;    ///< grid indices rechecked in float64
     std::vector<std::unique_ptr<Tape>> tapes;  ///< one per recursion depth
+    std::vector<std::unique_ptr<QuadrantLevel>> quadrant_levels;  ///< one per recursion depth (2D)
     Tape leaf_tape;                             ///< a long leaf tape in max-live slots
     SlotScratch slot_scratch;
 };
@@ -120,19 +134,24 @@ public:
     std::optional<double> decide(const Box& box, const Tape& tape, Scratch& s, Tape& simplified,
                                  SignRenderStats& st) const {
         if (const std::optional<double> sign = interval_sign(box, tape, s, st)) return sign;
-        simplify_for_sign(tape, s.ranges, s.box, simplified);
+        simplify_for_sign(tape, s.choices, s.box, simplified);
         return std::nullopt;
     }
 
     /// The box's intervals (into s.ranges): the sign of the whole box when they decide it.
     std::optional<double> interval_sign(const Box& box, const Tape& tape, Scratch& s, SignRenderStats& st) const {
         ++st.boxes;
-        evaluate_intervals(tape, {axis_interval(box, 0), axis_interval(box, 1), axis_interval(box, 2)}, s.ranges);
-        const Interval& r = s.ranges[tape.root_slot];
-        if (r.positive() || r.negative() || (r.lo == 0 && r.hi == 0 && !r.maybe_nan)) {
-            st.decided_points += box.points();
+        evaluate_box_intervals(tape, {axis_interval(box, 0), axis_interval(box, 1), axis_interval(box, 2)}, s.ranges,
+                               s.choices);
+        const std::optional<double> sign = decided_sign(s.ranges[tape.root_slot]);
+        if (sign) st.decided_points += box.points();
+        return sign;
+    }
+
+    /// The sign of a whole box whose root ranges over `r`, where the range decides it.
+    static std::optional<double> decided_sign(const Interval& r) {
+        if (r.positive() || r.negative() || (r.lo == 0 && r.hi == 0 && !r.maybe_nan))
             return r.positive() ? 1.0 : r.negative() ? -1.0 : 0.0;
-        }
         return std::nullopt;
     }
 
@@ -184,7 +203,7 @@ public:
         }
         double parent_bound = 0.0;
         if (grid_.slices() > 1 && is_leaf(box) && evaluate_points_unsimplified(box, tape, s, st, parent_bound)) return;
-        simplify_for_sign(tape, s.ranges, s.box, simplified);
+        simplify_for_sign(tape, s.choices, s.box, simplified);
         if (is_leaf(box)) {
             // A 3D leaf whose float32 bound is not finite over the whole box: its parts have
             // tighter intervals (bear.vm's sums of exponentials), so they try again; the
@@ -201,7 +220,96 @@ public:
             evaluate_points(box, simplified, bound, s, st);
             return;
         }
+        if (grid_.slices() == 1) {
+            render_quadrants(box, simplified, s, depth + 1, st);
+            return;
+        }
         for (const Box& child : split_in_place(box)) render(child, simplified, s, depth + 1, st);
+    }
+
+    /// A box of the breadth-first levels (2D) and a tape valid over it whose intervals over
+    /// the box are known not to decide it: its parts, split as render_quadrants splits them,
+    /// decided into `decided` or with their shortened tapes into `undecided` (the box's own
+    /// tape where a part barely shortens it: the copy is not worth it).
+    struct Part {
+        Box box;
+        std::shared_ptr<const Tape> tape;
+    };
+    void split_step(const Box& box, const std::shared_ptr<const Tape>& tape, Scratch& s, SignRenderStats& st,
+                    std::vector<std::pair<Box, double>>& decided, std::vector<Part>& undecided) {
+        const Parts parts = split_in_place(box);
+        auto keep = [&](const Box& child, std::shared_ptr<Tape> shortened) {
+            if (shortened->code.size() * 8 > tape->code.size() * 7) undecided.push_back({child, tape});
+            else undecided.push_back({child, std::move(shortened)});
+        };
+        if (parts.count != 4) {
+            for (const Box& child : parts) {
+                if (const std::optional<double> sign = interval_sign(child, *tape, s, st)) {
+                    decided.emplace_back(child, *sign);
+                    continue;
+                }
+                auto shortened = std::make_shared<Tape>();
+                simplify_for_sign(*tape, s.choices, s.box, *shortened);
+                keep(child, std::move(shortened));
+            }
+            return;
+        }
+        if (s.quadrant_levels.empty()) s.quadrant_levels.push_back(std::make_unique<QuadrantLevel>());
+        QuadrantLevel& level = *s.quadrant_levels[0];
+        std::array<std::array<Interval, 3>, 4> axes;
+        for (int q = 0; q < 4; ++q)
+            for (int a = 0; a < 3; ++a) axes[q][a] = axis_interval(parts.box[q], a);
+        evaluate_quadrant_intervals(*tape, axes, level.intervals, level.choices, level.roots);
+        st.boxes += 4;
+        for (int q = 0; q < 4; ++q) {
+            if (const std::optional<double> sign = decided_sign(level.roots[q])) {
+                st.decided_points += parts.box[q].points();
+                decided.emplace_back(parts.box[q], *sign);
+                continue;
+            }
+            auto shortened = std::make_shared<Tape>();
+            simplify_for_sign(*tape, level.choices[q], s.box, *shortened);
+            keep(parts.box[q], std::move(shortened));
+        }
+    }
+
+    /// A box of the breadth-first levels (2D) whose tape is valid over it and whose intervals
+    /// do not decide it, to the end: a leaf's points, or its quadrants.
+    void render_undecided(const Box& box, const Tape& tape, Scratch& s, SignRenderStats& st) {
+        if (is_leaf(box)) evaluate_points(box, tape, float32_bound(box, tape, s), s, st);
+        else render_quadrants(box, tape, s, 0, st);
+    }
+
+    /// Depth-first in 2D: the four quadrants of `box` on the box's shortened tape, their
+    /// intervals in one walk of it (quadrant_intervals.hpp); each undecided quadrant is
+    /// shortened from its choices and walked the same way, down to the leaves.
+    void render_quadrants(const Box& box, const Tape& tape, Scratch& s, std::size_t depth, SignRenderStats& st) {
+        const Parts parts = split_in_place(box);
+        if (parts.count != 4) {   // a box one node wide or high: its halves one by one
+            for (const Box& child : parts) render(child, tape, s, depth, st);
+            return;
+        }
+        while (s.quadrant_levels.size() <= depth) s.quadrant_levels.push_back(std::make_unique<QuadrantLevel>());
+        QuadrantLevel& level = *s.quadrant_levels[depth];
+        std::array<std::array<Interval, 3>, 4> axes;
+        for (int q = 0; q < 4; ++q)
+            for (int a = 0; a < 3; ++a) axes[q][a] = axis_interval(parts.box[q], a);
+        evaluate_quadrant_intervals(tape, axes, level.intervals, level.choices, level.roots);
+        st.boxes += 4;
+        for (int q = 0; q < 4; ++q) {
+            const Box& child = parts.box[q];
+            if (const std::optional<double> sign = decided_sign(level.roots[q])) {
+                st.decided_points += child.points();
+                if (*sign != kBackgroundSign) fill(child, *sign);
+                continue;
+            }
+            simplify_for_sign(tape, level.choices[q], s.box, level.tape);
+            if (is_leaf(child)) {
+                evaluate_points(child, level.tape, float32_bound(child, level.tape, s), s, st);
+                continue;
+            }
+            render_quadrants(child, level.tape, s, depth + 1, st);
+        }
     }
 
     /// Calls body(width) with the box's width as a compile-time constant for the leaves'
@@ -246,7 +354,8 @@ public:
     /// tapes too long to run in SSA slots.
     double float32_bound(const Box& box, const Tape& tape, Scratch& s) const {
         if (tape.slot_count > kReallocateAboveSlots) return kUnbounded;
-        evaluate_intervals(tape, {axis_interval(box, 0), axis_interval(box, 1), axis_interval(box, 2)}, s.leaf_ranges);
+        evaluate_box_intervals(tape, {axis_interval(box, 0), axis_interval(box, 1), axis_interval(box, 2)},
+                               s.leaf_ranges, s.choices);
         return float32_error_bound(tape, s.leaf_ranges, s.errors);
     }
 
@@ -416,7 +525,38 @@ void render_signs(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
                              std::make_shared<const Tape>(compile_tape(graph, TapeSpec{{root}, {}, {}, /*reuse_slots=*/false}))}};
     std::vector<Decided> decided;
     const std::size_t enough = std::size_t(16) * threads;
-    for (bool split_any = true; split_any && items.size() < enough;) {
+    // 2D: the root's own intervals, then each level's quadrants in one walk of their box's
+    // tape (render_quadrants), so the items carry tapes already shortened for their box.
+    const bool quadrants = grid.slices() == 1;
+    if (quadrants) {
+        const Item root_item = items[0];
+        items.clear();
+        auto shortened = std::make_shared<Tape>();
+        if (const std::optional<double> sign = renderer.decide(root_item.box, *root_item.tape, scratch[0], *shortened,
+                                                               worker_stats[0]))
+            decided.push_back({root_item.box, *sign});
+        else
+            items.push_back({root_item.box, std::move(shortened)});
+    }
+    for (bool split_any = true; quadrants && split_any && !items.empty() && items.size() < enough;) {
+        std::vector<std::vector<std::pair<Box, double>>> decided_parts(items.size());
+        std::vector<std::vector<typename Renderer<Signs>::Part>> parts(items.size());
+        parallel_for(items.size(), quiet, [&](std::size_t i, int worker) {
+            if (renderer.is_leaf(items[i].box)) parts[i].push_back({items[i].box, items[i].tape});
+            else renderer.split_step(items[i].box, items[i].tape, scratch[worker], worker_stats[worker], decided_parts[i], parts[i]);
+            return std::size_t{0};
+        });
+        std::vector<Item> next;
+        split_any = false;
+        for (std::size_t i = 0; i < items.size(); ++i) {
+            for (const auto& [box, sign] : decided_parts[i]) decided.push_back({box, sign});
+            split_any |= !renderer.is_leaf(items[i].box);
+            for (const auto& part : parts[i]) next.push_back({part.box, part.tape});
+        }
+        items = std::move(next);
+        if (options.cancel && options.cancel->load()) break;
+    }
+    for (bool split_any = true; !quadrants && split_any && items.size() < enough;) {
         std::vector<std::vector<Item>> children(items.size());
         std::vector<std::optional<double>> signs(items.size());
         parallel_for(items.size(), quiet, [&](std::size_t i, int worker) {
@@ -454,7 +594,8 @@ void render_signs(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
     if (options.progress && decided_points > 0) options.progress(decided_points);
 
     parallel_for(items.size(), options, [&](std::size_t i, int worker) {
-        renderer.render(items[i].box, *items[i].tape, scratch[worker], 0, worker_stats[worker]);
+        if (quadrants) renderer.render_undecided(items[i].box, *items[i].tape, scratch[worker], worker_stats[worker]);
+        else renderer.render(items[i].box, *items[i].tape, scratch[worker], 0, worker_stats[worker]);
         return items[i].box.points();
     });
     if (options.cancel && options.cancel->load())

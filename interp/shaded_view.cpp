@@ -37,6 +37,10 @@ constexpr int kLeafDepth = 4;
 // of 5; every 2nd or 3rd level in between), with the same pictures. Leaves use their parent's
 // tape: shortening it once more cost more than it saved (4.1-4.7 against 4.1-4.4 s).
 constexpr std::size_t kSimplifyEvery = 5;
+/// The interval pass runs on every second level of the split (besides those above): bear.vm
+/// 1024² front, one thread: 132,562 passes on every level, 111,201 on every second one, for
+/// 0.03% more leaf samples (every third level: 114,869, its halves' passes pruning more).
+constexpr std::size_t kIntervalEvery = 2;
 /// Tiles handed to the workers.
 constexpr int kTilePixels = 64;
 
@@ -157,8 +161,8 @@ public:
         }
     }
 
-    void render(const Region& r, const Tape& tape, Scratch& s, std::size_t depth, std::size_t generation = 0) {
-        if (all_hit_before(r)) return;
+    void render(Region r, const Tape& tape, Scratch& s, std::size_t depth, std::size_t generation = 0) {
+        if (!shrink_to_open(r)) return;
         // The region's box in model coordinates (the parallelepiped's bounds), clipped to the domain.
         const double s_lo = cam_.s0 + r.c0 * cam_.step, s_hi = cam_.s0 + r.c1 * cam_.step;
         const double t_lo = cam_.t0 - r.r1 * cam_.step, t_hi = cam_.t0 - r.r0 * cam_.step;
@@ -179,18 +183,6 @@ public:
             evaluate_leaf(r, tape, generation, s);
             return;
         }
-        evaluate_intervals(tape, axes, s.ranges);
-        const Interval& v = s.ranges[tape.root_slot];
-        if (v.negative()) return;
-        const Tape* next = &tape;
-        // Not where the region is all inside: the shortened tape would be the constant 1, whose
-        // gradient (the hits' normals, Newton) is zero.
-        if (depth % kSimplifyEvery == 0 && !v.positive()) {
-            while (s.tapes.size() <= depth) s.tapes.push_back(std::make_unique<Tape>());
-            simplify_for_sign(tape, s.ranges, s.box, *s.tapes[depth]);
-            next = s.tapes[depth].get();
-            generation = ++s.tapes_written;
-        }
         // Split the longest of (columns, rows, depth) in leaf units; depth front half first.
         const int w = r.c1 - r.c0 + 1, h = r.r1 - r.r0 + 1, d = r.k1 - r.k0 + 1;
         Region a = r, b = r;
@@ -203,6 +195,26 @@ public:
         } else {
             a.r1 = (r.r0 + r.r1) / 2;
             b.r0 = a.r1 + 1;
+        }
+        // Every other level only splits: the interval pass there pruned one region in six, and
+        // its two halves' passes prune the same space (levels that shorten the tape, and the
+        // leaves' parents, always run it).
+        if (depth % kIntervalEvery != 0 && depth % kSimplifyEvery != 0 && !is_leaf(a) && !is_leaf(b)) {
+            render(a, tape, s, depth + 1, generation);
+            render(b, tape, s, depth + 1, generation);
+            return;
+        }
+        evaluate_intervals(tape, axes, s.ranges);
+        const Interval& v = s.ranges[tape.root_slot];
+        if (v.negative()) return;
+        const Tape* next = &tape;
+        // Not where the region is all inside: the shortened tape would be the constant 1, whose
+        // gradient (the hits' normals, Newton) is zero.
+        if (depth % kSimplifyEvery == 0 && !v.positive()) {
+            while (s.tapes.size() <= depth) s.tapes.push_back(std::make_unique<Tape>());
+            simplify_for_sign(tape, s.ranges, s.box, *s.tapes[depth]);
+            next = s.tapes[depth].get();
+            generation = ++s.tapes_written;
         }
         // Two leaves side by side (not one behind the other) run as one: the same samples, one
         // pass over the tape instead of two (bear.vm 256²: 3% fewer instructions).
@@ -219,11 +231,20 @@ private:
         return r.c1 - r.c0 < kLeafPixels && r.r1 - r.r0 < kLeafPixels && r.k1 - r.k0 < kLeafDepth;
     }
 
-    /// Every pixel of the region already has a hit in front of it.
-    bool all_hit_before(const Region& r) const {
+    /// Shrinks the region's pixels to the bounding box of those not hit in front of it; false
+    /// when every pixel is. Why: along a silhouette or a slope part of a region is hit early,
+    /// and the box of the rest, smaller, is more often proved outside (bear.vm 1024² front:
+    /// 4% fewer leaf samples, 8% fewer interval passes).
+    bool shrink_to_open(Region& r) const {
+        int c0 = r.c1 + 1, c1 = r.c0 - 1, r0 = r.r1 + 1, r1 = r.r0 - 1;
         for (int row = r.r0; row <= r.r1; ++row)
             for (int col = r.c0; col <= r.c1; ++col)
-                if (hit_sample(col, row) > r.k0) return false;
+                if (hit_sample(col, row) > r.k0) {
+                    c0 = std::min(c0, col), c1 = std::max(c1, col);
+                    r0 = std::min(r0, row), r1 = std::max(r1, row);
+                }
+        if (c0 > c1) return false;
+        r.c0 = c0, r.c1 = c1, r.r0 = r0, r.r1 = r1;
         return true;
     }
 

@@ -37,10 +37,17 @@ constexpr int kLeafDepth = 4;
 // of 5; every 2nd or 3rd level in between), with the same pictures. Leaves use their parent's
 // tape: shortening it once more cost more than it saved (4.1-4.7 against 4.1-4.4 s).
 constexpr std::size_t kSimplifyEvery = 5;
+/// The hits' normals run on the tape of their region at this depth (shortened at 0 and 5), not
+/// on their leaf's (at 10): a few more instructions, but hits wait for a batch as long as it
+/// is current, about eight times as many as under one leaf tape, and a batch pays each
+/// instruction's fixed costs once. bear.vm 1024² front: 42 hits a batch on the leaves' tapes.
+constexpr std::size_t kNormalTapeDepth = kSimplifyEvery;
 /// The interval pass runs on every second level of the split (besides those above): bear.vm
 /// 1024² front, one thread: 132,562 passes on every level, 111,201 on every second one, for
 /// 0.03% more leaf samples (every third level: 114,869, its halves' passes pruning more).
 constexpr std::size_t kIntervalEvery = 2;
+/// Regions of at most this many pixels shrink to those not hit yet (shrink_to_open).
+constexpr int kShrinkPixels = 16 * 16;
 /// Tiles handed to the workers.
 constexpr int kTilePixels = 64;
 
@@ -128,6 +135,13 @@ struct Lanes {
     }
 };
 
+/// A tape and its number (Scratch::tapes_written; 0: the model's), which tells whether a
+/// reallocated copy of it is still current.
+struct NumberedTape {
+    const Tape* tape;
+    std::size_t number;
+};
+
 constexpr double kNoValue = std::numeric_limits<double>::quiet_NaN();
 
 struct Scratch {
@@ -136,14 +150,16 @@ struct Scratch {
     Lanes<float> float_lanes;
     std::size_t tapes_written = 0;   ///< numbers the simplified tapes (0: the model's)
     std::size_t leaf_tape_of = ~std::size_t{0};   ///< the number of the tape leaf_tape reallocates
+    std::size_t normal_tape_of = ~std::size_t{0}; ///< the number of the tape normal_tape reallocates
     std::vector<Interval> ranges;
     BoxScratch box;
     std::vector<std::unique_ptr<Tape>> tapes;
     Tape leaf_tape;          ///< the leaf's tape in max-live slots (reallocate_slots)
+    Tape normal_tape;        ///< the tape the waiting hits' normals run on, in max-live slots
     SlotScratch slot_scratch;
     std::vector<ir::Dual> duals;
     std::vector<ir::Dual*> dual_slots;
-    bool leaf_float_gradient = false;   ///< leaf_tape has float32 derivative rules for every instruction
+    bool normal_float_gradient = false;   ///< normal_tape has float32 derivative rules for every instruction
     FloatGradientScratch float_gradient;
     std::vector<float> points;           ///< the hits' coordinates, values and gradients in float32
     std::vector<Hit> dual_hits;          ///< the hits whose float32 gradient was not finite
@@ -161,7 +177,8 @@ public:
         }
     }
 
-    void render(Region r, const Tape& tape, Scratch& s, std::size_t depth, std::size_t generation = 0) {
+    /// `normal` is the tape the hits' normals run on: the one in use below kNormalTapeDepth.
+    void render(Region r, const Tape& tape, Scratch& s, std::size_t depth, std::size_t generation, NumberedTape normal) {
         if (!shrink_to_open(r)) return;
         // The region's box in model coordinates (the parallelepiped's bounds), clipped to the domain.
         const double s_lo = cam_.s0 + r.c0 * cam_.step, s_hi = cam_.s0 + r.c1 * cam_.step;
@@ -180,7 +197,7 @@ public:
             axes[a] = sum;
         }
         if (is_leaf(r)) {
-            evaluate_leaf(r, tape, generation, s);
+            evaluate_leaf(r, tape, generation, normal, s);
             return;
         }
         // Split the longest of (columns, rows, depth) in leaf units; depth front half first.
@@ -200,8 +217,8 @@ public:
         // its two halves' passes prune the same space (levels that shorten the tape, and the
         // leaves' parents, always run it).
         if (depth % kIntervalEvery != 0 && depth % kSimplifyEvery != 0 && !is_leaf(a) && !is_leaf(b)) {
-            render(a, tape, s, depth + 1, generation);
-            render(b, tape, s, depth + 1, generation);
+            render(a, tape, s, depth + 1, generation, normal);
+            render(b, tape, s, depth + 1, generation, normal);
             return;
         }
         evaluate_intervals(tape, axes, s.ranges);
@@ -216,14 +233,15 @@ public:
             next = s.tapes[depth].get();
             generation = ++s.tapes_written;
         }
+        if (depth <= kNormalTapeDepth) normal = {next, generation};
         // Two leaves side by side (not one behind the other) run as one: the same samples, one
         // pass over the tape instead of two (bear.vm 256²: 3% fewer instructions).
         if (a.k0 == b.k0 && is_leaf(a) && is_leaf(b)) {
-            evaluate_leaf(r, *next, generation, s);
+            evaluate_leaf(r, *next, generation, normal, s);
             return;
         }
-        render(a, *next, s, depth + 1, generation);
-        render(b, *next, s, depth + 1, generation);
+        render(a, *next, s, depth + 1, generation, normal);
+        render(b, *next, s, depth + 1, generation, normal);
     }
 
 private:
@@ -236,6 +254,14 @@ private:
     /// and the box of the rest, smaller, is more often proved outside (bear.vm 1024² front:
     /// 4% fewer leaf samples, 8% fewer interval passes).
     bool shrink_to_open(Region& r) const {
+        // Large regions (near the top of the split) are only checked for an open pixel: their
+        // box shrinks little, and scanning all their pixels at every level costs more.
+        if ((r.c1 - r.c0 + 1) * (r.r1 - r.r0 + 1) > kShrinkPixels) {
+            for (int row = r.r0; row <= r.r1; ++row)
+                for (int col = r.c0; col <= r.c1; ++col)
+                    if (hit_sample(col, row) > r.k0) return true;
+            return false;
+        }
         int c0 = r.c1 + 1, c1 = r.c0 - 1, r0 = r.r1 + 1, r1 = r.r0 - 1;
         for (int row = r.r0; row <= r.r1; ++row)
             for (int col = r.c0; col <= r.c1; ++col)
@@ -264,14 +290,18 @@ private:
     /// find, per pixel, the first sample at or inside the surface and the values there and
     /// before it; the hit, interpolated between them, is then refined by one Newton step along
     /// the ray in float64 (normals), from the value and gradient the normal needs anyway.
-    void evaluate_leaf(const Region& r, const Tape& ssa, std::size_t generation, Scratch& s) {
+    void evaluate_leaf(const Region& r, const Tape& ssa, std::size_t generation, NumberedTape normal, Scratch& s) {
         // Lanes cost slots × 256 points: SSA slots would cost a deep model gigabytes. Sibling
         // leaves share their parent's tape, so it is reallocated once for all of them.
         if (s.leaf_tape_of != generation || generation == 0) {
-            finish(s);   // the hits waiting for normals were found with the tape about to be replaced
             reallocate_slots(ssa, s.leaf_tape, s.slot_scratch);
-            s.leaf_float_gradient = float_gradient_supported(s.leaf_tape);
             s.leaf_tape_of = generation;
+        }
+        if (s.normal_tape_of != normal.number || normal.number == 0) {
+            finish(s);   // the hits waiting for normals belong to the tape about to be replaced
+            reallocate_slots(*normal.tape, s.normal_tape, s.slot_scratch);
+            s.normal_float_gradient = float_gradient_supported(s.normal_tape);
+            s.normal_tape_of = normal.number;
         }
         const Tape& tape = s.leaf_tape;
         // The pixels not hit in front of the leaf, each with its last sample to look at.
@@ -317,7 +347,7 @@ public:
     /// Computes the normals of the hits found so far (they wait so that the leaves sharing a
     /// tape run their normals in one batch: per-instruction costs are paid once).
     void finish(Scratch& s) {
-        normals(s.hits, s.leaf_tape, s);
+        normals(s.hits, s.normal_tape, s);
         s.hits.clear();
     }
 
@@ -351,7 +381,7 @@ private:
     void normals(const std::vector<Hit>& hits, const Tape& tape, Scratch& s) {
         if (hits.empty()) return;
         const std::vector<Hit>* exact = &hits;
-        if (s.leaf_float_gradient) {
+        if (s.normal_float_gradient) {
             const int n = static_cast<int>(hits.size());
             s.points.resize(std::size_t(7) * n);
             float* p = s.points.data();
@@ -454,7 +484,7 @@ SurfaceImage render_shaded_view(const ir::Graph& graph, ir::NodeId root, const s
         const int tx = static_cast<int>(i % tiles_x), ty = static_cast<int>(i / tiles_x);
         const Region r{tx * kTilePixels, std::min(width, (tx + 1) * kTilePixels) - 1, ty * kTilePixels,
                        std::min(height, (ty + 1) * kTilePixels) - 1, 0, camera.depth_samples - 1};
-        renderer.render(r, tape, scratch[worker], 0);
+        renderer.render(r, tape, scratch[worker], 0, 0, {&tape, 0});
         renderer.finish(scratch[worker]);
         return std::size_t{0};
     });

@@ -39,8 +39,8 @@ constexpr int kLeafDepth = 4;
 constexpr std::size_t kSimplifyEvery = 5;
 /// The hits' normals run on the tape of their region at this depth (shortened at 0 and 5), not
 /// on their leaf's (at 10): a few more instructions, but hits wait for a batch as long as it
-/// is current, about eight times as many as under one leaf tape, and a batch pays each
-/// instruction's fixed costs once. bear.vm 1024² front: 42 hits a batch on the leaves' tapes.
+/// is current, about six times as many as under one leaf tape, and a batch pays each
+/// instruction's fixed costs once (bear.vm 1024² front: about 45 hits a batch on the leaves' tapes).
 constexpr std::size_t kNormalTapeDepth = kSimplifyEvery;
 /// The interval pass runs on every second level of the split (besides those above): bear.vm
 /// 1024² front, one thread: 132,562 passes on every level, 111,201 on every second one, for

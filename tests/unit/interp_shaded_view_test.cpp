@@ -79,3 +79,61 @@ TEST_CASE("a shaded view of a sphere has the exact hits, depths and normals") {
             CHECK(e.normal < 2.0 / (size - 1) / kRadius);
         }
 }
+
+TEST_CASE("a shaded view of a sphere partly in front of another shows the nearer surface at every pixel") {
+    // Regions along the front sphere's silhouette are partly hit early: the rest of their
+    // pixels (shrunk to their own box) must still find the sphere behind, at its depth.
+    struct Sphere {
+        double x, y, z, r;
+    };
+    const Sphere spheres[] = {{0.0, 0.0, -0.2, 0.6}, {0.3, 0.25, 0.45, 0.3}};
+    test::Compiled c = test::compile_text(
+        "ARGUMENT X, Y, Z\n"
+        "RETURN MAX(0.36 - X*X - Y*Y - (Z + 0.2)*(Z + 0.2), 0.09 - (X - 0.3)*(X - 0.3) - (Y - 0.25)*(Y - 0.25) - (Z - 0.45)*(Z - 0.45))");
+    REQUIRE(c.model);
+    const int size = 128;
+    const SurfaceImage image =
+        render_shaded_view(c.model->graph, c.model->root, std::array<AxisRange, 3>{}, ViewDirection{0, 0}, size, size);
+    const double step = 2.0 / (size - 1);
+    const int last_sample = static_cast<int>(std::ceil(2.0 / step));
+    int wrong_hits = 0, checked = 0;
+    double depth_error = 0;
+    for (int row = 0; row < size; ++row)
+        for (int col = 0; col < size; ++col) {
+            const std::size_t i = std::size_t(row) * size + col;
+            const double x = -1 + col * step, y = 1 - row * step;
+            // The nearest front surface (largest z) among the spheres the ray meets, and how
+            // far inside the nearest sphere's silhouette the ray is (grazing rays are skipped).
+            double front = -1e9, margin = 0;
+            int nearest = -1;
+            for (int k = 0; k < 2; ++k) {
+                const Sphere& s = spheres[k];
+                const double r2 = (x - s.x) * (x - s.x) + (y - s.y) * (y - s.y);
+                if (r2 >= s.r * s.r) continue;
+                const double z = s.z + std::sqrt(s.r * s.r - r2);
+                if (z > front) front = z, margin = std::sqrt(s.r * s.r - r2), nearest = k;
+            }
+            if (front == -1e9) {
+                wrong_hits += image.hit[i] != SurfaceImage::Hit::None;
+                continue;
+            }
+            // Near the crease where the spheres meet, the samples before the hit may belong to
+            // the other sphere (MAX switches between them): only the hit is checked there.
+            const Sphere& other = spheres[1 - nearest];
+            const double to_other = std::sqrt((x - other.x) * (x - other.x) + (y - other.y) * (y - other.y) +
+                                              (front - other.z) * (front - other.z)) - other.r;
+            if (margin < 0.15 || to_other < 3 * step) {
+                wrong_hits += image.hit[i] == SurfaceImage::Hit::None;
+                continue;
+            }
+            if (image.hit[i] != SurfaceImage::Hit::Surface) {
+                ++wrong_hits;
+                continue;
+            }
+            ++checked;
+            depth_error = std::max(depth_error, std::abs(image.depth[i] * last_sample - (1 - front) / step));
+        }
+    CHECK(wrong_hits == 0);
+    CHECK(checked > 3000);
+    CHECK(depth_error < 0.05);
+}

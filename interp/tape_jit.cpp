@@ -8,8 +8,6 @@
 #include "interp/vector_math_functions.hpp"
 
 #include <asmjit/x86.h>
-#if defined(__AVX2__)
-#endif
 
 #include <algorithm>
 #include <cstdint>

@@ -52,10 +52,12 @@ const void* LazyPlugin::get(std::string& error) {
     std::call_once(once_, [this] {
         const void* table = load_plugin_entry(spec_.file_name, spec_.env_variable, spec_.build_path, spec_.entry,
                                               spec_.missing_hint, error_, spec_.global);
-        if (table && *static_cast<const int*>(table) != spec_.version)
+        if (table && *static_cast<const int*>(table) != spec_.version) {
             error_ = std::string(spec_.file_name) + " is from another build of fortu";
-        else
+        } else if (table) {
             table_ = table;
+            error_.clear();   // an earlier candidate's failure, not this plug-in's
+        }
     });
     error = error_;
     return table_;

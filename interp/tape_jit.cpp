@@ -224,8 +224,14 @@ public:
 
     /// Operand k's vector v as an operand: a register (a held result) or memory.
     Operand_ source(const OperandRef& ref, int k, int v) const {
+        if (const int g = group_of(ref); g >= 0 && ref.place != Place::constant) return group_register(g, v);
+        return memory(ref, k, v);
+    }
+
+    /// Operand k's vector v where it is in memory (the result's, for k = 0): what no register
+    /// holds, and the same whenever the code using it is written (cold paths are written last).
+    x86::Mem memory(const OperandRef& ref, int k, int v) const {
         if (ref.place == Place::constant) return pool_entry(ref.index);
-        if (const int g = group_of(ref); g >= 0) return group_register(g, v);
         if (ref.place == Place::internal) return chunk_slot(ref.index, v);
         return x86::ptr(pointer_reg(k), x86::r14, 0, v * kVectorBytes, kVectorBytes);
     }
@@ -258,10 +264,7 @@ public:
         return scratch;
     }
 
-    void store(const OperandRef& out, int v, const x86::Ymm& value) {
-        if (out.place == Place::internal) a_.vmovups(chunk_slot(out.index, v), value);
-        else a_.vmovups(x86::ptr(pointer_reg(0), x86::r14, 0, v * kVectorBytes, kVectorBytes), value);
-    }
+    void store(const OperandRef& out, int v, const x86::Ymm& value) { a_.vmovups(memory(out, 0, v), value); }
 
     /// Instruction i inline (compiles_inline), its result left in a register group.
     /// `numbers`: bit k set if operand k is never NaN.
@@ -411,19 +414,16 @@ public:
         held_[group] = Held{true, !store_out, out, i, ++clock_};
     }
 
-    /// A float32 operation SLEEF computes: one call per vector, operands in ymm0 (and ymm1),
-    /// the result in ymm0, stored at once (the call may change every other register).
+    /// A float32 operation a vector function computes: one call per vector, operands in ymm0
+    /// (and ymm1), the result in ymm0, stored at once (the call may change every other
+    /// register). Reads and writes memory only, so a cold path written later may use it too.
     void call_vector_function(const OperandRef* refs, int arity, void* function) {
         const OperandRef* in = refs + 1;
         for (int v = 0; v < kVectors<T>; ++v) {
             for (int k = arity - 1; k >= 0; --k) {
-                const x86::Ymm dst = x86::ymm(k);
-                if (in[k].place == Place::constant) a_.vmovups(dst, pool_entry(in[k].index));
-                else {
-                    if (in[k].place == Place::external)
-                        a_.mov(pointer_reg(k + 1), x86::ptr(x86::rbx, int32_t(in[k].index * sizeof(T*))));
-                    a_.vmovups(dst, source(in[k], k + 1, v).template as<x86::Mem>());
-                }
+                if (in[k].place == Place::external)
+                    a_.mov(pointer_reg(k + 1), x86::ptr(x86::rbx, int32_t(in[k].index * sizeof(T*))));
+                a_.vmovups(x86::ymm(k), memory(in[k], k + 1, v));
             }
             a_.mov(x86::rax, Imm(reinterpret_cast<uint64_t>(function)));
             a_.call(x86::rax);
@@ -435,8 +435,8 @@ public:
 
     /// A float32 function of vector_math_functions.hpp written inline (tape_jit_math.hpp):
     /// `narrow` for the chunk's four vectors, unless `needs_wide` marks a lane of one of them;
-    /// then, out of line (`cold`, written after the function's end), `function` is called per
-    /// vector, as call_vector_function does, and its results reloaded. Held values must be
+    /// then, out of line (`cold`, written after the function's end), call_vector_function
+    /// calls `function` per vector and its results are reloaded. Held values must be
     /// flushed first: the written code may use every register but the result's group.
     template <class NeedsWide, class Narrow>
     void inline_function(std::size_t i, const OperandRef* refs, NeedsWide needs_wide, Narrow narrow, void* function,
@@ -449,19 +449,12 @@ public:
         std::vector<int> registers;
         for (int r = 15; r >= 0; --r)
             if (r < kGroupBase[group] || r >= kGroupBase[group] + kVectors<T>) registers.push_back(r);
-        std::array<x86::Mem, kVectors<T>> in_memory, out_memory;
-        for (int v = 0; v < kVectors<T>; ++v) {
-            in_memory[v] = source(in, 1, v).template as<x86::Mem>();
-            out_memory[v] = out.place == Place::internal
-                                ? chunk_slot(out.index, v)
-                                : x86::ptr(pointer_reg(0), x86::r14, 0, v * kVectorBytes, kVectorBytes);
-        }
         const Label cold = a_.newLabel(), done = a_.newLabel();
         {
             math::Writer writer(a_, registers, pool_constant);
             math::Value any;
             for (int v = 0; v < kVectors<T>; ++v) {
-                const math::Value mask = needs_wide(writer.load(in_memory[v]));
+                const math::Value mask = needs_wide(writer.load(memory(in, 1, v)));
                 any = v == 0 ? mask : math::Code::or_mask(any, mask);
             }
             a_.vtestps(any.ymm(), any.ymm());
@@ -470,22 +463,13 @@ public:
         {
             math::Writer writer(a_, registers, pool_constant);
             for (int v = 0; v < kVectors<T>; ++v)
-                a_.vmovaps(group_register(group, v), narrow(writer.load(in_memory[v])).ymm());
+                a_.vmovaps(group_register(group, v), narrow(writer.load(memory(in, 1, v))).ymm());
         }
         a_.bind(done);
-        cold_paths.push_back([this, cold, done, in, out, group, function, in_memory, out_memory] {
+        cold_paths.push_back([this, cold, done, operands = std::array{out, in}, group, function] {
             a_.bind(cold);
-            for (int v = 0; v < kVectors<T>; ++v) {
-                if (in.place == Place::external)
-                    a_.mov(pointer_reg(1), x86::ptr(x86::rbx, int32_t(in.index * sizeof(T*))));
-                a_.vmovups(x86::ymm0, in_memory[v]);
-                a_.mov(x86::rax, Imm(reinterpret_cast<uint64_t>(function)));
-                a_.call(x86::rax);
-                if (out.place == Place::external)
-                    a_.mov(pointer_reg(0), x86::ptr(x86::rbx, int32_t(out.index * sizeof(T*))));
-                a_.vmovups(out_memory[v], x86::ymm0);
-            }
-            for (int v = 0; v < kVectors<T>; ++v) a_.vmovups(group_register(group, v), out_memory[v]);
+            call_vector_function(operands.data(), 1, function);
+            for (int v = 0; v < kVectors<T>; ++v) a_.vmovups(group_register(group, v), memory(operands[0], 0, v));
             a_.jmp(done);
         });
         if (out.place == Place::external)

@@ -41,13 +41,19 @@ std::vector<T> argument_values(int axis, int lanes) {
     return values;
 }
 
+/// Each axis's values over the lanes; argument_values() where none are given.
+template <class T>
+using Arguments = std::vector<std::vector<T>>;
+
 /// The tape's outputs over `lanes` points, by the lane kernel or by the compiled tape.
 template <class T>
 std::vector<std::vector<T>> run(const Tape& tape, const std::vector<Instruction>& code, int lanes, bool compiled,
-                                const CompiledTape<T>* jit = nullptr, JitScratch<T>* scratch = nullptr) {
+                                const CompiledTape<T>* jit = nullptr, JitScratch<T>* scratch = nullptr,
+                                const Arguments<T>* arguments = nullptr) {
     std::vector<std::vector<T>> storage(tape.slot_count, std::vector<T>(lanes, T(0)));
     for (auto [slot, value] : tape.constants) std::fill(storage[slot].begin(), storage[slot].end(), T(value));
-    for (auto [slot, axis] : tape.arguments) storage[slot] = argument_values<T>(axis, lanes);
+    for (auto [slot, axis] : tape.arguments)
+        storage[slot] = arguments ? (*arguments)[axis] : argument_values<T>(axis, lanes);
     std::vector<T*> slots(tape.slot_count);
     for (uint32_t s = 0; s < tape.slot_count; ++s) slots[s] = storage[s].data();
     if (compiled) jit->run(code.data(), code.size(), slots.data(), lanes, *scratch, true);
@@ -81,14 +87,16 @@ bool same_outputs(const std::vector<std::vector<T>>& a, const std::vector<std::v
     return true;
 }
 
+/// The compiled tape's outputs, checked against the lane kernel's bit for bit; returned.
 template <class T>
-void check_same(const Tape& tape, int lanes, const std::vector<Instruction>* other_code = nullptr) {
+std::vector<std::vector<T>> check_same(const Tape& tape, int lanes, const std::vector<Instruction>* other_code = nullptr,
+                                       const Arguments<T>* arguments = nullptr) {
     std::unique_ptr<CompiledTape<T>> jit = CompiledTape<T>::compile(tape);
     REQUIRE(jit);
     JitScratch<T> scratch;
     const std::vector<Instruction>& code = other_code ? *other_code : tape.code;
-    const auto expected = run<T>(tape, code, lanes, false);
-    const auto actual = run<T>(tape, code, lanes, true, jit.get(), &scratch);
+    const auto expected = run<T>(tape, code, lanes, false, nullptr, nullptr, arguments);
+    const auto actual = run<T>(tape, code, lanes, true, jit.get(), &scratch, arguments);
     REQUIRE(actual.size() == expected.size());
     int differing = 0;
     // The instruction that computes each output, to name it.
@@ -105,6 +113,7 @@ void check_same(const Tape& tape, int lanes, const std::vector<Instruction>* oth
                 MESSAGE(std::string(sizeof(T) == 4 ? "float32" : "float64"), " output ", k, " (", producer(k), ") lane ", l,
                         ": compiled ", double(actual[k][l]), ", lane kernel ", double(expected[k][l]));
     CHECK(differing == 0);
+    return actual;
 }
 
 /// Every operation with each operand a slot or a constant (R-operations with α 0, 0.5, -0.3 and
@@ -278,8 +287,6 @@ TEST_CASE("compiled float32 exp and ln: their narrow path inline, chunks with a 
     // Chained, so the functions also read held and stored results.
     const ir::NodeId both = g.make(Op::Ln, std::array{g.make(Op::Add, std::array{ex, ln})});
     const Tape tape = compile_tape(g, TapeSpec{{ex, ln, both}, {}, {}});
-    std::unique_ptr<CompiledTape<float>> jit = CompiledTape<float>::compile(tape);
-    REQUIRE(jit);
     constexpr int kLanes = 1024;
     // The first half only ordinary arguments (|x| ≤ 87 for exp, positive normal numbers for
     // ln): the narrow path. In the second half each 32-lane chunk has one lane of another
@@ -296,28 +303,8 @@ TEST_CASE("compiled float32 exp and ln: their narrow path inline, chunks with a 
         xs[lane] = wide_x[chunk % 8];
         ys[lane + (chunk % 2)] = wide_y[chunk % 8];
     }
-    const auto outputs = [&](bool compiled) {
-        std::vector<std::vector<float>> storage(tape.slot_count, std::vector<float>(kLanes, 0.0f));
-        for (auto [slot, value] : tape.constants) std::fill(storage[slot].begin(), storage[slot].end(), float(value));
-        for (auto [slot, axis] : tape.arguments) storage[slot] = axis == 0 ? xs : ys;
-        std::vector<float*> slots(tape.slot_count);
-        for (uint32_t s = 0; s < tape.slot_count; ++s) slots[s] = storage[s].data();
-        JitScratch<float> scratch;
-        if (compiled) jit->run(tape.code.data(), tape.code.size(), slots.data(), kLanes, scratch, true);
-        else run_lanes<float, 0>(tape.code.data(), tape.code.size(), slots.data(), kLanes);
-        std::vector<std::vector<float>> result;
-        for (uint32_t slot : tape.outputs) result.push_back(storage[slot]);
-        return result;
-    };
-    const auto compiled = outputs(true), lanes = outputs(false);
-    for (std::size_t k = 0; k < lanes.size(); ++k) {
-        CAPTURE(k);
-        int differing = 0;
-        for (int l = 0; l < kLanes; ++l)
-            if (!same_value(compiled[k][l], lanes[k][l]) && ++differing <= 5)
-                MESSAGE("lane ", l, ": compiled ", compiled[k][l], ", lane loops ", lanes[k][l]);
-        CHECK(differing == 0);
-    }
+    const Arguments<float> arguments{xs, ys, std::vector<float>(kLanes, 0.0f)};
+    const auto compiled = check_same<float>(tape, kLanes, nullptr, &arguments);
     // The wide lanes gave what exp and ln give there.
     CHECK(compiled[0][16 * 32 + (16 * 5) % 32] == inf);   // exp(89.5) overflows
     CHECK(std::isnan(compiled[1][18 * 32 + (18 * 5) % 32]));   // ln(NaN)

@@ -6,15 +6,21 @@
 #include <doctest/doctest.h>
 
 #include <filesystem>
+#include <optional>
 #include <string>
 
 using namespace fortu;
 
 namespace {
 
-/// Where the build puts the plug-ins: beside the fortu binary.
-std::string built_plugin(const char* file_name) {
-    return (std::filesystem::path(FORTU_BINARY).parent_path() / file_name).string();
+/// The HDF5 plug-in where the build puts it (beside the fortu binary), its table asked for at
+/// `version`; none when fortu was built without HDF5.
+std::optional<LazyPlugin::Spec> built_hdf5_plugin(int version) {
+    static const std::string path =
+        (std::filesystem::path(FORTU_BINARY).parent_path() / "libfortu_hdf5.so").string();
+    if (!std::filesystem::exists(path)) return std::nullopt;
+    return LazyPlugin::Spec{"libfortu_hdf5.so", "FORTU_NO_SUCH_VARIABLE", path.c_str(), "fortu_hdf5_module", "",
+                            version};
 }
 
 }  // namespace
@@ -31,20 +37,18 @@ TEST_CASE("a plug-in found nowhere names the file and the hint, every time it is
 }
 
 TEST_CASE("a plug-in whose table has another version is refused") {
-    const std::string path = built_plugin("libfortu_hdf5.so");
-    if (!std::filesystem::exists(path)) return;   // built without HDF5
-    LazyPlugin plugin({"libfortu_hdf5.so", "FORTU_NO_SUCH_VARIABLE", path.c_str(), "fortu_hdf5_module", "",
-                       kVtkHdfModuleVersion + 1});
+    const auto spec = built_hdf5_plugin(kVtkHdfModuleVersion + 1);
+    if (!spec) return;
+    LazyPlugin plugin(*spec);
     std::string error;
     CHECK(plugin.get(error) == nullptr);
     CHECK(error == "libfortu_hdf5.so is from another build of fortu");
 }
 
 TEST_CASE("the HDF5 plug-in loads and reports a file it cannot create as text") {
-    const std::string path = built_plugin("libfortu_hdf5.so");
-    if (!std::filesystem::exists(path)) return;   // built without HDF5
-    LazyPlugin plugin({"libfortu_hdf5.so", "FORTU_NO_SUCH_VARIABLE", path.c_str(), "fortu_hdf5_module", "",
-                       kVtkHdfModuleVersion});
+    const auto spec = built_hdf5_plugin(kVtkHdfModuleVersion);
+    if (!spec) return;
+    LazyPlugin plugin(*spec);
     std::string error;
     const auto* module = static_cast<const VtkHdfModule*>(plugin.get(error));
     REQUIRE(module != nullptr);

@@ -9,7 +9,9 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <csignal>
 #include <filesystem>
 #include <random>
@@ -60,11 +62,16 @@ TEST_CASE("killed at random moments 100 times: never a partial output, no stray 
     test::ScratchDir dir;
     dir.write("m.fortu", "ARGUMENT X, Y;\nRETURN 0.25 - X*X - Y*Y + 0.1*SIN(20*X)*COS(20*Y);\n");
     const std::string folder = dir.path.string();
-    // The complete files, to compare what a killed run leaves with.
+    // The complete files, to compare what a killed run leaves with. How long a run takes sets
+    // the range of kill moments (to 1.3 runs), so on a fast machine as on a slow one most runs
+    // are killed, some while writing, and some finish.
+    const auto started = std::chrono::steady_clock::now();
     REQUIRE(run_fortu("run m.fortu --size 300 -o out.npy", folder).status == 0);
     const std::string full_npy = dir.read("out.npy");
     REQUIRE(run_fortu("run m.fortu --size 300 -o out.png", folder).status == 0);
     const std::string full_png = dir.read("out.png");
+    const auto one_run = std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now() - started) / 2;
+    const int latest_kill = static_cast<int>(std::max<std::int64_t>(1'000, one_run.count() * 13 / 10));
     std::filesystem::remove(dir / "out.npy");
     std::filesystem::remove(dir / "out.png");
 
@@ -77,7 +84,7 @@ TEST_CASE("killed at random moments 100 times: never a partial output, no stray 
         const std::string out = png ? "out.png" : "out.npy";
         const pid_t pid = start_fortu(folder, {"--size", "300", "--threads", "1", "-o", folder + "/" + out});
         REQUIRE(pid > 0);
-        std::this_thread::sleep_for(std::chrono::microseconds(std::uniform_int_distribution<int>(0, 120'000)(random)));
+        std::this_thread::sleep_for(std::chrono::microseconds(std::uniform_int_distribution<int>(0, latest_kill)(random)));
         const int signal = signals[round % std::size(signals)];
         ::kill(pid, signal);
         int status = 0;

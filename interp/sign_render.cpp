@@ -143,7 +143,12 @@ public:
         ++st.boxes;
         evaluate_box_intervals(tape, {axis_interval(box, 0), axis_interval(box, 1), axis_interval(box, 2)}, s.ranges,
                                s.choices);
-        const std::optional<double> sign = decided_sign(s.ranges[tape.root_slot]);
+        return counted_sign(box, s.ranges[tape.root_slot], st);
+    }
+
+    /// decided_sign of a box whose root ranges over `r`, its points counted as decided.
+    static std::optional<double> counted_sign(const Box& box, const Interval& r, SignRenderStats& st) {
+        const std::optional<double> sign = decided_sign(r);
         if (sign) st.decided_points += box.points();
         return sign;
     }
@@ -227,6 +232,20 @@ public:
         for (const Box& child : split_in_place(box)) render(child, simplified, s, depth + 1, st);
     }
 
+    /// The intervals and choices of the four quadrants `parts` over `tape`, in one walk, into
+    /// the quadrant scratch of `depth` (made on first use).
+    QuadrantLevel& walk_quadrants(const Parts& parts, const Tape& tape, Scratch& s, std::size_t depth,
+                                  SignRenderStats& st) const {
+        while (s.quadrant_levels.size() <= depth) s.quadrant_levels.push_back(std::make_unique<QuadrantLevel>());
+        QuadrantLevel& level = *s.quadrant_levels[depth];
+        std::array<std::array<Interval, 3>, 4> axes;
+        for (int q = 0; q < 4; ++q)
+            for (int a = 0; a < 3; ++a) axes[q][a] = axis_interval(parts.box[q], a);
+        evaluate_quadrant_intervals(tape, axes, level.intervals, level.choices, level.roots);
+        st.boxes += 4;
+        return level;
+    }
+
     /// A box of the breadth-first levels (2D) and a tape valid over it whose intervals over
     /// the box are known not to decide it: its parts, split as render_quadrants splits them,
     /// decided into `decided` or with their shortened tapes into `undecided` (the box's own
@@ -254,16 +273,9 @@ public:
             }
             return;
         }
-        if (s.quadrant_levels.empty()) s.quadrant_levels.push_back(std::make_unique<QuadrantLevel>());
-        QuadrantLevel& level = *s.quadrant_levels[0];
-        std::array<std::array<Interval, 3>, 4> axes;
-        for (int q = 0; q < 4; ++q)
-            for (int a = 0; a < 3; ++a) axes[q][a] = axis_interval(parts.box[q], a);
-        evaluate_quadrant_intervals(*tape, axes, level.intervals, level.choices, level.roots);
-        st.boxes += 4;
+        const QuadrantLevel& level = walk_quadrants(parts, *tape, s, 0, st);
         for (int q = 0; q < 4; ++q) {
-            if (const std::optional<double> sign = decided_sign(level.roots[q])) {
-                st.decided_points += parts.box[q].points();
+            if (const std::optional<double> sign = counted_sign(parts.box[q], level.roots[q], st)) {
                 decided.emplace_back(parts.box[q], *sign);
                 continue;
             }
@@ -289,17 +301,10 @@ public:
             for (const Box& child : parts) render(child, tape, s, depth, st);
             return;
         }
-        while (s.quadrant_levels.size() <= depth) s.quadrant_levels.push_back(std::make_unique<QuadrantLevel>());
-        QuadrantLevel& level = *s.quadrant_levels[depth];
-        std::array<std::array<Interval, 3>, 4> axes;
-        for (int q = 0; q < 4; ++q)
-            for (int a = 0; a < 3; ++a) axes[q][a] = axis_interval(parts.box[q], a);
-        evaluate_quadrant_intervals(tape, axes, level.intervals, level.choices, level.roots);
-        st.boxes += 4;
+        QuadrantLevel& level = walk_quadrants(parts, tape, s, depth, st);
         for (int q = 0; q < 4; ++q) {
             const Box& child = parts.box[q];
-            if (const std::optional<double> sign = decided_sign(level.roots[q])) {
-                st.decided_points += child.points();
+            if (const std::optional<double> sign = counted_sign(child, level.roots[q], st)) {
                 if (*sign != kBackgroundSign) fill(child, *sign);
                 continue;
             }

@@ -11,6 +11,7 @@
 #include "interp/lane_kernel.hpp"
 #include "interp/parallel.hpp"
 #include "interp/quadrant_intervals.hpp"
+#include "interp/stored_sign.hpp"
 #include "interp/tape.hpp"
 
 #include <algorithm>
@@ -99,14 +100,6 @@ template <class Value>
 Value stored_sign(double sign) {
     if constexpr (std::is_same_v<Value, double>) return sign;
     else return SignVolume::code_of(sign != sign ? SignVolume::kNaN : static_cast<int8_t>(sign));
-}
-
-/// The stored sign of a value, without branches (the leaves' store loop vectorises):
-/// 1, 0 (±0), -1, or NaN / kNaN.
-template <class Value, class F>
-Value stored_sign_of(F v) {
-    if constexpr (std::is_same_v<Value, double>) return double(ir::k_sign(v));
-    else return static_cast<int8_t>(~(int((v > 0) - (v < 0)) | (int(v != v) << 7)));  // NaN: 0x80 = kNaN
 }
 
 /// The signs start as outside (−1) and boxes decided outside are not written again: most of a
@@ -338,8 +331,8 @@ public:
             const F* x = xs.data() + box.lo[0];
             for (int k = box.lo[2]; k <= box.hi[2]; ++k)
                 for (int j = box.lo[1]; j <= box.hi[1]; ++j, out += width) {
-                    const F value = axis == 1 ? ys[j] : zs[k];
-                    for (int c = 0; c < width; ++c) out[c] = axis == 0 ? x[c] : value;
+                    if (axis == 0) std::copy_n(x, width, out);
+                    else std::fill_n(out, width, axis == 1 ? ys[j] : zs[k]);
                 }
         }
     }
@@ -349,10 +342,8 @@ public:
     void store_signs(const Box& box, const F* result) {
         const int width = kWidth > 0 ? kWidth : box.hi[0] - box.lo[0] + 1;
         for (int k = box.lo[2]; k <= box.hi[2]; ++k)
-            for (int j = box.lo[1]; j <= box.hi[1]; ++j, result += width) {
-                Value* row = signs_.data() + grid_.index(box.lo[0], j, k);
-                for (int c = 0; c < width; ++c) row[c] = stored_sign_of<Value>(result[c]);
-            }
+            for (int j = box.lo[1]; j <= box.hi[1]; ++j, result += width)
+                store_sign_row<kWidth>(signs_.data() + grid_.index(box.lo[0], j, k), result, width);
     }
 
     /// The float32 error bound of `tape` over the box (float32_bound.hpp); kUnbounded for

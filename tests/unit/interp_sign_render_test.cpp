@@ -192,6 +192,35 @@ TEST_CASE("a 3D sign volume keeps one int8 per node: the same signs and statisti
     CHECK(b.negative > 0);
 }
 
+TEST_CASE("a 2D sign image kept as int8: every sign of 16-wide leaf rows as the float64 field") {
+    // NaN where x < 0 (SQRT), +1, −1 and exact zeros (y = 0.25 on a grid node) in the same
+    // rows, which the int8 leaves store 16 lanes at a time.
+    test::Compiled c = test::compile_text(
+        "ARGUMENT x(-1, 1), y(-1, 1);\nRETURN SQRT(x) * 0 + (0.25 - y) * (0.6 - x*x - y*y);\n");
+    REQUIRE_MESSAGE(c.model, c.sink.render_all());
+    const Grid g = grid_for(*c.model, 129, 0);
+    const Field field = sign_render(c.model->graph, c.model->root, g);
+    const SignVolume image = sign_render_volume(c.model->graph, c.model->root, g);
+    REQUIRE(image.codes.size() == g.points());
+    std::size_t differing = 0, counts[4] = {};
+    for (std::size_t i = 0; i < g.points(); ++i) {
+        const double a = field.values[i];
+        const int8_t b = image.sign(i);
+        differing += std::isnan(a) ? b != SignVolume::kNaN : b != a;
+        ++counts[b == SignVolume::kNaN ? 3 : b + 1];
+    }
+    CHECK(differing == 0);
+    CHECK(image.sign(g.index(0, 0)) == SignVolume::kNaN);
+    REQUIRE(g.y_at(48) == 0.25);                     // rows go down from y = 1
+    CHECK(image.sign(g.index(80, 48)) == 0);        // y = 0.25
+    CHECK(image.sign(g.index(80, 64)) == 1);        // x = 0.25, y = 0: 0.25 · 0.5375
+    CHECK(image.sign(g.index(128, 64)) == -1);      // x = 1, y = 0: 0.25 · (−0.4)
+    CHECK(counts[0] > 0);
+    CHECK(counts[1] > 0);
+    CHECK(counts[2] > 0);
+    CHECK(counts[3] > 0);
+}
+
 TEST_CASE("the volume starts outside: boxes decided inside, on the boundary or NaN are still written") {
     // Inside everywhere (every box decided +1), outside everywhere (nothing written after the
     // start), and a thick shell around a cavity (both signs decided, leaves between).

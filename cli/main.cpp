@@ -38,6 +38,7 @@
 #include "runtime/resources.hpp"
 
 #include <cmath>
+#include <malloc.h>
 #include <filesystem>
 #include <fmt/format.h>
 #include <iostream>
@@ -46,6 +47,20 @@
 
 namespace fortu {
 namespace {
+
+/// glibc's defaults give memory back to the system as soon as 128 KiB is free at the heap's
+/// top, and put every block over 128 KiB in a mapping of its own, unmapped when freed: a run
+/// that allocates and frees scratch as it goes pays system calls and zero-filled page faults
+/// for the same memory again. Blocks up to 32 MiB from the heap, kept when freed up to
+/// 64 MiB, the heap grown 8 MiB at a time: prospero.vm's 1024² sign image in a fresh process
+/// 7.7 → 7.0 ms (medians of 15; 1,678 → 1,387 page faults; its second run in one process
+/// takes 6.3 ms). Only the command line does this: the Python module lives in someone
+/// else's process.
+void tune_allocator() {
+    mallopt(M_MMAP_THRESHOLD, 32 << 20);
+    mallopt(M_TRIM_THRESHOLD, 64 << 20);
+    mallopt(M_TOP_PAD, 8 << 20);
+}
 
 constexpr int kExitModelError = 1;
 constexpr int kExitUsage = 2;
@@ -364,6 +379,7 @@ int command_run_files(const CliOptions& o) {
 
 int main(int argc, char** argv) {
     using namespace fortu;
+    tune_allocator();
     std::vector<std::string> args(argv + 1, argv + argc);
     try {
         // Commands with options of their own parse their own arguments.

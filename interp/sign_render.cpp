@@ -486,20 +486,24 @@ template <class Signs>
 void render_signs(const ir::Graph& graph, ir::NodeId root, const Grid& grid, const EvalOptions& options,
                   SignRenderStats* stats, Signs& signs) {
     using Value = typename Signs::value_type;
-    // Allocating the result (page faults: ~3 ms for 1024²) runs on its own thread while
-    // the first levels of the tree only decide boxes; their fills wait for it. One sequential
-    // pass writes the background of a Field (a SignVolume's is its zeroed pages); a cancelled
-    // render reads NaN everywhere, so no unreached node passes for outside.
+    // A Field's background, one sequential pass (page faults: ~3 ms for 1024²), is written on
+    // its own thread while the first levels of the tree only decide boxes; their fills wait
+    // for it. A SignVolume's codes start as outside in the fresh pages' zero bytes, so it is
+    // only mapped, here. A cancelled render reads NaN everywhere, so no unreached node passes
+    // for outside.
     std::exception_ptr allocation_failure;
-    std::jthread allocation([&] {  // joined on any exit, so an exception cannot leave it running
-        try {
-            // int8 codes start as outside: the fresh pages' zero bytes (SignVolume).
-            if constexpr (std::is_same_v<Value, double>) signs.assign(grid.points(), kBackgroundSign);
-            else signs.resize(grid.points());
-        } catch (...) {
-            allocation_failure = std::current_exception();
-        }
-    });
+    std::jthread allocation;   // joined on any exit, so an exception cannot leave it running
+    if constexpr (std::is_same_v<Value, double>) {
+        allocation = std::jthread([&] {
+            try {
+                signs.assign(grid.points(), kBackgroundSign);
+            } catch (...) {
+                allocation_failure = std::current_exception();
+            }
+        });
+    } else {
+        signs.resize(grid.points());
+    }
     Renderer<Signs> renderer(grid, signs, grid.slices() > 1 ? kLeafExtent3d : 16);
     const int threads = resolve_threads(options.threads);
     std::vector<Scratch> scratch(threads);
@@ -580,7 +584,7 @@ void render_signs(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
         items = std::move(next);
         if (options.cancel && options.cancel->load()) break;
     }
-    allocation.join();
+    if (allocation.joinable()) allocation.join();
     if (allocation_failure) std::rethrow_exception(allocation_failure);
     std::size_t decided_points = 0;
     for (const Decided& d : decided) {

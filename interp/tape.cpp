@@ -2,9 +2,88 @@
 #include "interp/tape.hpp"
 
 #include <algorithm>
+#include <array>
+#include <span>
 #include <stdexcept>
 
 namespace fortu {
+namespace {
+
+/// Sorts the few operands of a node (at most kMaxArity) by `before`, stably: an insertion sort,
+/// which unlike std::stable_sort allocates nothing (this runs once per node).
+template <class T, class Before>
+void largest_first(T* items, int count, Before before) {
+    for (int i = 1; i < count; ++i)
+        for (int j = i; j > 0 && before(items[j], items[j - 1]); --j) std::swap(items[j], items[j - 1]);
+}
+
+/// The nodes `reachable` gives (the outputs and what they need, not past `stop`), in a
+/// depth-first order: each node right after its operands, the operand that needs more
+/// values alive at once first (Sethi–Ullman numbers, sharing ignored). Why: id order is
+/// the order the model was written or imported in, and an imported .vm file may list its
+/// nodes level by level (bear.vm: 40 divisions, then the next layer), so each value
+/// waits hundreds of instructions for its user: compiled tapes load and store it around
+/// that wait, and the lane loops keep its tile alive.
+std::vector<ir::NodeId> locality_order(const ir::Graph& graph, std::span<const ir::NodeId> outputs,
+                                       const std::vector<char>& stop) {
+    const std::vector<ir::NodeId> reachable = graph.reachable(outputs, &stop);
+    if (reachable.empty()) return reachable;
+    const auto expands = [&](ir::NodeId id) {
+        return !stop[id] && !(ir::op_flags(graph.node(id).op) & ir::kLeaf);
+    };
+    // need[id]: registers to compute the node's tree (leaves are read from memory: 0).
+    std::vector<uint32_t> need(graph.size(), 0);
+    for (ir::NodeId id : reachable) {
+        if (!expands(id)) continue;
+        const ir::Node& n = graph.node(id);
+        std::array<uint32_t, ir::kMaxArity> needs{};
+        const int arity = ir::op_arity(n.op);
+        for (int k = 0; k < arity; ++k) needs[k] = need[n.args[k]];
+        largest_first(needs.data(), arity, [](uint32_t a, uint32_t b) { return a > b; });
+        uint32_t most = 1;
+        for (int k = 0; k < arity; ++k) most = std::max(most, needs[k] + uint32_t(k));
+        need[id] = most;
+    }
+    std::vector<char> placed(graph.size(), 0);
+    std::vector<ir::NodeId> order;
+    order.reserve(reachable.size());
+    struct Frame {
+        ir::NodeId id;
+        std::array<ir::NodeId, ir::kMaxArity> operands;
+        int count;
+        int next;
+    };
+    std::vector<Frame> stack;
+    const auto enter = [&](ir::NodeId id) {
+        Frame f{id, {}, 0, 0};
+        if (expands(id)) {
+            const ir::Node& n = graph.node(id);
+            f.count = ir::op_arity(n.op);
+            for (int k = 0; k < f.count; ++k) f.operands[k] = n.args[k];
+            // The larger need first; ties keep the operands' own order.
+            largest_first(f.operands.data(), f.count, [&](ir::NodeId a, ir::NodeId b) { return need[a] > need[b]; });
+        }
+        placed[id] = 1;   // entered: a DAG reaches it once
+        stack.push_back(f);
+    };
+    for (ir::NodeId root : outputs) {
+        if (placed[root]) continue;
+        enter(root);
+        while (!stack.empty()) {
+            Frame& f = stack.back();
+            if (f.next < f.count) {
+                const ir::NodeId operand = f.operands[f.next++];
+                if (!placed[operand]) enter(operand);
+                continue;
+            }
+            order.push_back(f.id);
+            stack.pop_back();
+        }
+    }
+    return order;
+}
+
+}  // namespace
 
 Tape compile_tape(const ir::Graph& graph, const TapeSpec& spec) {
     Tape tape;
@@ -22,7 +101,10 @@ Tape compile_tape(const ir::Graph& graph, const TapeSpec& spec) {
     }
     for (ir::NodeId out : spec.outputs)
         if (uniform_index[out] != kNone) throw std::logic_error("compile_tape: a uniform cannot be an output");
-    const std::vector<ir::NodeId> order = graph.reachable(spec.outputs, &stop);
+    // SSA tapes keep the ids' order: the per-box passes that walk them (box_simplify.hpp,
+    // interval.hpp) cost the same in either, and the reordering would cost them its time.
+    const std::vector<ir::NodeId> order =
+        spec.reuse_slots ? locality_order(graph, spec.outputs, stop) : graph.reachable(spec.outputs, &stop);
     tape.node_count = order.size();
     auto computed = [&](ir::NodeId id) {
         return !stop[id] && !(ir::op_flags(graph.node(id).op) & ir::kLeaf);

@@ -39,7 +39,9 @@ struct TapeSpec {
     std::vector<ir::NodeId> inputs;     ///< supplied per tile as lane arrays
     std::vector<ir::NodeId> uniforms;   ///< supplied per tile as one value (never an output)
     /// false: SSA, one slot per value, never reused — for passes that look back at every
-    /// value, as the sign renderer's per-box simplification does (box_simplify.hpp).
+    /// value, as the sign renderer's per-box simplification does (box_simplify.hpp); the
+    /// instructions then come in node id order. true: depth-first, each value close to its
+    /// users (tape.cpp, locality_order), so fewer are alive at once.
     bool reuse_slots = true;
 };
 

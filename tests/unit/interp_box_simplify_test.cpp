@@ -101,23 +101,6 @@ TEST_CASE("keeping values: only the exact rules apply, the R-operation stays") {
     CHECK(simplified(model, 0, 1, 0.6, 1) == "; 0 operations, 2 slots\ns1 = const -1\nreturn s1\n");
 }
 
-namespace {
-
-/// The root's values at `points` (X, Y) by the lane kernel, every slot a lane array.
-std::vector<double> run_tape(const Tape& tape, const std::vector<std::array<double, 2>>& points) {
-    const int n = static_cast<int>(points.size());
-    std::vector<double> lanes(std::size_t(tape.slot_count) * n, 0.0);
-    std::vector<double*> slots(tape.slot_count);
-    for (std::size_t k = 0; k < slots.size(); ++k) slots[k] = lanes.data() + k * n;
-    for (auto [slot, axis] : tape.arguments)
-        for (int l = 0; l < n; ++l) slots[slot][l] = points[l][axis];
-    for (auto [slot, value] : tape.constants) std::fill_n(slots[slot], n, value);
-    run_lanes<double, 0>(tape.code.data(), tape.code.size(), slots.data(), n);
-    return std::vector<double>(slots[tape.root_slot], slots[tape.root_slot] + n);
-}
-
-}  // namespace
-
 TEST_CASE("reallocated slots: compile_tape's allocation, and max-live slots for a deep chain") {
     auto c = test::compile_text("ARGUMENT X, Y\nRETURN (X * 2 + 1) * (Y - 3) + SQRT(X * X + Y * Y)\n");
     REQUIRE(c.model);
@@ -136,7 +119,7 @@ TEST_CASE("reallocated slots: compile_tape's allocation, and max-live slots for 
     CHECK(deep_ssa.slot_count == 3003);
     CHECK(reused.slot_count == 6);
     const std::vector<std::array<double, 2>> points{{0.25, -1.5}, {3, 7}, {-2, 0.125}};
-    const std::vector<double> expected = run_tape(deep_ssa, points);
-    const std::vector<double> actual = run_tape(reused, points);
+    const std::vector<double> expected = test::run_tape(deep_ssa, points);
+    const std::vector<double> actual = test::run_tape(reused, points);
     for (std::size_t l = 0; l < points.size(); ++l) CHECK(actual[l] == expected[l]);
 }

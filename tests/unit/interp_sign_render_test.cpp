@@ -11,10 +11,11 @@
 
 #include <algorithm>
 #include <atomic>
-
 #include <cmath>
 #include <filesystem>
 #include <fmt/format.h>
+#include <stdexcept>
+#include <string>
 
 using namespace fortu;
 
@@ -159,22 +160,49 @@ TEST_CASE("NaN and infinity: the sign image marks invalid points as the full eva
     CHECK(s.values[g.index(40, 10)] == 0.0);        // X = 0.25: 0.5 - 0.5 + 4 - 4 + 0
 }
 
+namespace {
+
+/// A model's signs both ways, the float64 Field and the int8 SignVolume, and at how many nodes
+/// they differ (NaN equals kNaN).
+struct BothSigns {
+    Grid grid;
+    Field field;
+    SignVolume volume;
+    std::size_t differing = 0;
+};
+
+BothSigns both_signs(const std::string& text, int nodes_2d, int nodes_3d) {
+    test::Compiled c = test::compile_text(text);
+    if (!c.model) throw std::runtime_error(c.sink.render_all());
+    BothSigns s{grid_for(*c.model, nodes_2d, nodes_3d), {}, {}, 0};
+    s.field = sign_render(c.model->graph, c.model->root, s.grid);
+    s.volume = sign_render_volume(c.model->graph, c.model->root, s.grid);
+    if (s.volume.codes.size() != s.grid.points()) throw std::runtime_error("volume of the wrong size");
+    for (std::size_t i = 0; i < s.grid.points(); ++i) {
+        const double a = s.field.values[i];
+        const int8_t b = s.volume.sign(i);
+        s.differing += std::isnan(a) ? b != SignVolume::kNaN : b != a;
+    }
+    return s;
+}
+
+}  // namespace
+
 TEST_CASE("a 3D sign volume keeps one int8 per node: the same signs and statistics as the float64 field") {
     // NaN where x < 0 (SQRT), +1, −1 and exact zeros (z = 0.5 on a grid node) all occur.
-    test::Compiled c = test::compile_text(
-        "ARGUMENT x(-1, 1), y(-1, 1), z(-1, 1);\nRETURN SQRT(x) * 0 + (0.5 - z) * (0.6 - x*x - y*y);\n");
-    REQUIRE_MESSAGE(c.model, c.sink.render_all());
-    const Grid g = grid_for(*c.model, 0, 17);
-    const Field field = sign_render(c.model->graph, c.model->root, g);
-    const SignVolume volume = sign_render_volume(c.model->graph, c.model->root, g);
-    REQUIRE(volume.codes.size() == g.points());
+    const BothSigns s = both_signs(
+        "ARGUMENT x(-1, 1), y(-1, 1), z(-1, 1);\nRETURN SQRT(x) * 0 + (0.5 - z) * (0.6 - x*x - y*y);\n", 0, 17);
+    const Grid& g = s.grid;
+    const Field& field = s.field;
+    const SignVolume& volume = s.volume;
+    CHECK(s.differing == 0);
     const Field expanded = volume.expanded();
-    std::size_t differing = 0;
+    std::size_t expanded_differing = 0;
     for (std::size_t i = 0; i < g.points(); ++i) {
         const double a = field.values[i], b = expanded.values[i];
-        differing += !(a == b || (std::isnan(a) && std::isnan(b)));
+        expanded_differing += !(a == b || (std::isnan(a) && std::isnan(b)));
     }
-    CHECK(differing == 0);
+    CHECK(expanded_differing == 0);
     CHECK(volume.sign(g.index(0, 0, 0)) == SignVolume::kNaN);
     CHECK(volume.sign(g.index(16, 8, 0)) == -1);   // x = 1, y = 0, z = −1: (1.5)(−0.4)
     CHECK(volume.sign(g.index(12, 8, 12)) == 0);   // z = 0.5
@@ -193,23 +221,16 @@ TEST_CASE("a 3D sign volume keeps one int8 per node: the same signs and statisti
 }
 
 TEST_CASE("a 2D sign image kept as int8: every sign of 16-wide leaf rows as the float64 field") {
-    // NaN where x < 0 (SQRT), +1, −1 and exact zeros (y = 0.25 on a grid node) in the same
-    // rows, which the int8 leaves store 16 lanes at a time.
-    test::Compiled c = test::compile_text(
-        "ARGUMENT x(-1, 1), y(-1, 1);\nRETURN SQRT(x) * 0 + (0.25 - y) * (0.6 - x*x - y*y);\n");
-    REQUIRE_MESSAGE(c.model, c.sink.render_all());
-    const Grid g = grid_for(*c.model, 129, 0);
-    const Field field = sign_render(c.model->graph, c.model->root, g);
-    const SignVolume image = sign_render_volume(c.model->graph, c.model->root, g);
-    REQUIRE(image.codes.size() == g.points());
-    std::size_t differing = 0, counts[4] = {};
-    for (std::size_t i = 0; i < g.points(); ++i) {
-        const double a = field.values[i];
-        const int8_t b = image.sign(i);
-        differing += std::isnan(a) ? b != SignVolume::kNaN : b != a;
-        ++counts[b == SignVolume::kNaN ? 3 : b + 1];
-    }
-    CHECK(differing == 0);
+    // +1, −1 and exact zeros (y = 0.25 on a grid node) in 16-wide leaf rows, which the int8
+    // leaves store 16 lanes at a time; NaN where x < 0 (SQRT), in boxes that run in float64
+    // (NaN lanes of the vector store: tests/unit/interp_stored_sign_test.cpp).
+    const BothSigns s = both_signs(
+        "ARGUMENT x(-1, 1), y(-1, 1);\nRETURN SQRT(x) * 0 + (0.25 - y) * (0.6 - x*x - y*y);\n", 129, 0);
+    const Grid& g = s.grid;
+    const SignVolume& image = s.volume;
+    std::size_t counts[4] = {};
+    for (std::size_t i = 0; i < g.points(); ++i) ++counts[image.sign(i) == SignVolume::kNaN ? 3 : image.sign(i) + 1];
+    CHECK(s.differing == 0);
     CHECK(image.sign(g.index(0, 0)) == SignVolume::kNaN);
     REQUIRE(g.y_at(48) == 0.25);                     // rows go down from y = 1
     CHECK(image.sign(g.index(80, 48)) == 0);        // y = 0.25

@@ -38,11 +38,11 @@
 #include "runtime/resources.hpp"
 
 #include <cmath>
-#include <malloc.h>
 #include <filesystem>
 #include <fmt/format.h>
 #include <iostream>
 #include <limits>
+#include <malloc.h>
 #include <unistd.h>
 
 namespace fortu {

@@ -17,6 +17,12 @@ void largest_first(T* items, int count, Before before) {
         for (int j = i; j > 0 && before(items[j], items[j - 1]); --j) std::swap(items[j], items[j - 1]);
 }
 
+/// Whether the tape computes `id`: neither a leaf (constant, argument) nor stopped at (an
+/// input or uniform, supplied from outside).
+bool computed_here(const ir::Graph& graph, const std::vector<char>& stop, ir::NodeId id) {
+    return !stop[id] && !(ir::op_flags(graph.node(id).op) & ir::kLeaf);
+}
+
 /// The nodes `reachable` gives (the outputs and what they need, not past `stop`), in a
 /// depth-first order: each node right after its operands, the operand that needs more
 /// values alive at once first (Sethi–Ullman numbers, sharing ignored). Why: id order is
@@ -28,9 +34,7 @@ std::vector<ir::NodeId> locality_order(const ir::Graph& graph, std::span<const i
                                        const std::vector<char>& stop) {
     const std::vector<ir::NodeId> reachable = graph.reachable(outputs, &stop);
     if (reachable.empty()) return reachable;
-    const auto expands = [&](ir::NodeId id) {
-        return !stop[id] && !(ir::op_flags(graph.node(id).op) & ir::kLeaf);
-    };
+    const auto expands = [&](ir::NodeId id) { return computed_here(graph, stop, id); };
     // need[id]: registers to compute the node's tree (leaves are read from memory: 0).
     std::vector<uint32_t> need(graph.size(), 0);
     for (ir::NodeId id : reachable) {
@@ -106,9 +110,7 @@ Tape compile_tape(const ir::Graph& graph, const TapeSpec& spec) {
     const std::vector<ir::NodeId> order =
         spec.reuse_slots ? locality_order(graph, spec.outputs, stop) : graph.reachable(spec.outputs, &stop);
     tape.node_count = order.size();
-    auto computed = [&](ir::NodeId id) {
-        return !stop[id] && !(ir::op_flags(graph.node(id).op) & ir::kLeaf);
-    };
+    auto computed = [&](ir::NodeId id) { return computed_here(graph, stop, id); };
 
     // Last use of each node, as a position in `order` (outputs live to the end).
     std::vector<std::size_t> last_use(graph.size(), 0);

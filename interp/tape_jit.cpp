@@ -2,6 +2,7 @@
 // function per tape, a loop over the tile's chunks for each short block of instructions.
 #include "interp/tape_jit.hpp"
 
+#include "interp/constant_divisor.hpp"
 #include "interp/lane_kernel.hpp"
 #include "interp/tape_jit_math.hpp"
 #include "interp/vector_math.hpp"
@@ -60,7 +61,9 @@ std::mutex& runtime_mutex() {
 constexpr uint8_t kNegated = 0x80;
 
 /// Fixed pool entries, before the operands' constants.
-enum Fixed : uint32_t { kSignBit, kAbsMask, kZero, kOne, kMinusOne, kFixedCount };
+/// kDivideLow and kDivideHigh bound |x| where x / c runs by the corrected reciprocal
+/// (constant_divisor.hpp).
+enum Fixed : uint32_t { kSignBit, kAbsMask, kZero, kOne, kMinusOne, kDivideLow, kDivideHigh, kFixedCount };
 
 }  // namespace
 
@@ -81,11 +84,13 @@ struct CompiledTape<T>::Compiled {
     std::size_t chunk_stride = 0;
     /// Pool entries read from the code's constant operands: (instruction, operand).
     std::vector<std::pair<uint32_t, uint8_t>> operand_constants;
-    std::vector<T> fixed_constants;   ///< entries before and after: masks, R-operation factors
+    std::vector<T> fixed_constants;   ///< entries before and after: masks, instructions' own factors
     uint32_t slot_count = 0;
     /// Pool entries of the uniforms' operands: (entry, uniform, negated).
     std::vector<std::tuple<uint32_t, uint32_t, bool>> uniform_entries;
     bool sites_read_uniforms = false;   ///< an operation handed back to the lane kernel reads one
+    /// Divisions compiled as multiplications: (instruction, pool entry of the reciprocal, how).
+    std::vector<std::tuple<uint32_t, uint32_t, ConstantDivisor<T>>> divisor_entries;
 
     ~Compiled() {
         if (function) {
@@ -149,8 +154,7 @@ void* float_vector_function(ir::Op op) {
 /// (the template's values do not depend on the width): exp and ln. False: call or hand it on.
 template <class E>
 bool inline_math(E& e, std::size_t i, ir::Op op, const OperandRef* refs,
-                 const std::function<x86::Mem(uint32_t)>& pool_constant,
-                 std::vector<std::function<void()>>& cold_paths) {
+                 const std::function<x86::Mem(uint32_t)>& pool_constant) {
     using Code = tape_jit_math::Code;
     namespace f = vector_math::functions;
     if (!vector_math::runs_fortu_function(op) || vector_math::active_isa() == vector_math::Isa::none) return false;
@@ -158,10 +162,10 @@ bool inline_math(E& e, std::size_t i, ir::Op op, const OperandRef* refs,
     if (!function) return false;
     switch (op) {
     case ir::Op::Exp:
-        e.inline_function(i, refs, f::exp_needs_wide<Code>, f::exp_narrow<Code>, function, pool_constant, cold_paths);
+        e.inline_function(i, refs, f::exp_needs_wide<Code>, f::exp_narrow<Code>, function, pool_constant);
         return true;
     case ir::Op::Ln:
-        e.inline_function(i, refs, f::log_needs_wide<Code>, f::log_narrow<Code>, function, pool_constant, cold_paths);
+        e.inline_function(i, refs, f::log_needs_wide<Code>, f::log_narrow<Code>, function, pool_constant);
         return true;
     default: return false;
     }
@@ -199,7 +203,9 @@ public:
     static constexpr int kLanes = CompiledTape<T>::kChunkLanes;
 
     /// `last_read[i]`: the last instruction that reads instruction i's result (i if none).
-    Emitter(x86::Assembler& a, const std::vector<std::size_t>& last_read) : a_(a), last_read_(last_read) {}
+    /// `cold_paths`: code written after the function's end, reached only from the code before it.
+    Emitter(x86::Assembler& a, const std::vector<std::size_t>& last_read, std::vector<std::function<void()>>& cold_paths)
+        : a_(a), last_read_(last_read), cold_paths_(cold_paths) {}
 
     InstId id(InstId single, InstId dbl) const { return kDouble ? dbl : single; }
 
@@ -267,8 +273,11 @@ public:
     void store(const OperandRef& out, int v, const x86::Ymm& value) { a_.vmovups(memory(out, 0, v), value); }
 
     /// Instruction i inline (compiles_inline), its result left in a register group.
-    /// `numbers`: bit k set if operand k is never NaN.
-    void emit(std::size_t i, const Instruction& ins, const OperandRef* refs, uint32_t r_factors, uint8_t numbers) {
+    /// `numbers`: bit k set if operand k is never NaN. `factors`: the first of the
+    /// instruction's own pool entries (an R-operation's 2α and 1 + α, a divisor's reciprocal);
+    /// `divisor`: how a division by a constant runs (constant_divisor.hpp).
+    void emit(std::size_t i, const Instruction& ins, const OperandRef* refs, uint32_t factors, uint8_t numbers,
+              const ConstantDivisor<T>& divisor) {
         using ir::Op;
         const OperandRef& out = refs[0];
         const OperandRef* in = refs + 1;
@@ -336,7 +345,16 @@ public:
         case Op::Add: commutative(add); break;
         case Op::Sub: binary(sub); break;
         case Op::Mul: commutative(mul); break;
-        case Op::Div: binary(div); break;
+        case Op::Div:
+            if (divisor.kind == DivisorKind::exact_reciprocal) {
+                prepare(refs, 3);
+                each_vector([&](int v, const x86::Ymm& r) { a_.emit(mul, r, first(v), pool_entry(factors)); });
+            } else if (divisor.kind == DivisorKind::corrected_reciprocal) {
+                divide_by_corrected_reciprocal(refs, group, factors, store_out);
+            } else {
+                binary(div);
+            }
+            break;
         case Op::Min: min_max(min); break;
         case Op::Max: min_max(max); break;
         case Op::Neg: with_mask(id(x86::Inst::kIdVxorps, x86::Inst::kIdVxorpd), kSignBit); break;
@@ -396,13 +414,13 @@ public:
                 a_.emit(add, t8, t8, t9);
                 if (alpha != 0.0) {
                     a_.emit(mul, t9, a, b);
-                    a_.emit(mul, t9, t9, pool_entry(r_factors));   // T(2α) * (a * b); finite T(2α): commutes exactly
+                    a_.emit(mul, t9, t9, pool_entry(factors));   // T(2α) * (a * b); finite T(2α): commutes exactly
                     a_.emit(sub, t8, t8, t9);
                 }
                 a_.emit(sqrt, t8, t8);
                 a_.emit(add, r, a, b);
                 a_.emit(conjunction ? sub : add, r, r, t8);
-                if (alpha != 0.0) a_.emit(div, r, r, pool_entry(r_factors + 1));   // T(1 + α)
+                if (alpha != 0.0) a_.emit(div, r, r, pool_entry(factors + 1));   // T(1 + α)
             });
             break;
         }
@@ -412,6 +430,53 @@ public:
         for (int g = 0; g < kGroups; ++g)
             if (g != group && group_of(out) == g) held_[g].used = false;
         held_[group] = Held{true, !store_out, out, i, ++clock_};
+    }
+
+    /// x / c as RN(q0 + (x − q0·c)·y), q0 = RN(x·y), y = RN(1/c) (constant_divisor.hpp), for
+    /// the chunk's four vectors, unless a lane's |x| is out of the range where that is exact:
+    /// then, out of line, by division.
+    void divide_by_corrected_reciprocal(const OperandRef* refs, int group, uint32_t reciprocal, bool store_out) {
+        const OperandRef* in = refs + 1;
+        const x86::Ymm t8 = x86::ymm(8), t9 = x86::ymm(9), t10 = x86::ymm(10), t11 = x86::ymm(11);
+        const x86::Mem divisor = pool_entry(in[1].index);
+        prepare(refs, 3);
+        const Label cold = a_.newLabel(), done = a_.newLabel();
+        for (int v = 0; v < kVectors<T>; ++v) {
+            const x86::Ymm x = in_register(in[0], 1, v, t10);
+            a_.emit(id(x86::Inst::kIdVandps, x86::Inst::kIdVandpd), t11, x, pool_entry(kAbsMask));
+            a_.emit(id(x86::Inst::kIdVcmpps, x86::Inst::kIdVcmppd), t9, t11, pool_entry(kDivideHigh), Imm(0x1E));   // >, ordered
+            a_.emit(id(x86::Inst::kIdVcmpps, x86::Inst::kIdVcmppd), t11, t11, pool_entry(kDivideLow), Imm(0x11));   // <, ordered
+            a_.emit(id(x86::Inst::kIdVorps, x86::Inst::kIdVorpd), v == 0 ? t8 : t11, t11, t9);
+            if (v > 0) a_.emit(id(x86::Inst::kIdVorps, x86::Inst::kIdVorpd), t8, t8, t11);
+        }
+        a_.emit(id(x86::Inst::kIdVtestps, x86::Inst::kIdVtestpd), t8, t8);
+        a_.jnz(cold);
+        std::array<Operand_, kVectors<T>> sources;
+        for (int v = 0; v < kVectors<T>; ++v) {
+            sources[v] = source(in[0], 1, v);
+            const x86::Ymm x = in_register(in[0], 1, v, t10);
+            const x86::Ymm r = group_register(group, v);
+            const x86::Ymm q = x.id() == r.id() ? t8 : r;
+            a_.emit(id(x86::Inst::kIdVmulps, x86::Inst::kIdVmulpd), q, x, pool_entry(reciprocal));
+            a_.emit(id(x86::Inst::kIdVmovaps, x86::Inst::kIdVmovapd), t9, q);
+            a_.emit(id(x86::Inst::kIdVfmsub132ps, x86::Inst::kIdVfmsub132pd), t9, x, divisor);   // q0·c − x
+            a_.emit(id(x86::Inst::kIdVfnmadd231ps, x86::Inst::kIdVfnmadd231pd), q, t9, pool_entry(reciprocal));
+            if (q.id() != r.id()) a_.emit(id(x86::Inst::kIdVmovaps, x86::Inst::kIdVmovapd), r, q);
+        }
+        a_.bind(done);
+        if (store_out)
+            for (int v = 0; v < kVectors<T>; ++v) store(refs[0], v, group_register(group, v));
+        // Out of line, the registers are as at the jump: held operands are still there.
+        cold_paths_.push_back([this, cold, done, sources, divisor, group] {
+            a_.bind(cold);
+            for (int v = 0; v < kVectors<T>; ++v) {
+                x86::Ymm x = x86::ymm(10);
+                if (sources[v].isReg()) x = sources[v].template as<x86::Ymm>();
+                else a_.vmovups(x, sources[v].template as<x86::Mem>());
+                a_.emit(id(x86::Inst::kIdVdivps, x86::Inst::kIdVdivpd), group_register(group, v), x, divisor);
+            }
+            a_.jmp(done);
+        });
     }
 
     /// A float32 operation a vector function computes: one call per vector, operands in ymm0
@@ -440,8 +505,7 @@ public:
     /// flushed first: the written code may use every register but the result's group.
     template <class NeedsWide, class Narrow>
     void inline_function(std::size_t i, const OperandRef* refs, NeedsWide needs_wide, Narrow narrow, void* function,
-                         const std::function<x86::Mem(uint32_t)>& pool_constant,
-                         std::vector<std::function<void()>>& cold_paths) {
+                         const std::function<x86::Mem(uint32_t)>& pool_constant) {
         namespace math = tape_jit_math;
         const OperandRef out = refs[0], in = refs[1];
         prepare(refs, 2);
@@ -466,7 +530,7 @@ public:
                 a_.vmovaps(group_register(group, v), narrow(writer.load(memory(in, 1, v))).ymm());
         }
         a_.bind(done);
-        cold_paths.push_back([this, cold, done, operands = std::array{out, in}, group, function] {
+        cold_paths_.push_back([this, cold, done, operands = std::array{out, in}, group, function] {
             a_.bind(cold);
             call_vector_function(operands.data(), 1, function);
             for (int v = 0; v < kVectors<T>; ++v) a_.vmovups(group_register(group, v), memory(operands[0], 0, v));
@@ -523,6 +587,7 @@ private:
 
     x86::Assembler& a_;
     const std::vector<std::size_t>& last_read_;
+    std::vector<std::function<void()>>& cold_paths_;
     Held held_[kGroups];
     std::size_t clock_ = 0;
 };
@@ -560,7 +625,7 @@ std::unique_ptr<CompiledTape<T>> CompiledTape<T>::compile(const Tape& tape, std:
     c.chunk_stride = std::size_t(c.internal_slots) * kChunkLanes * sizeof(T) + 64;
     if (c.chunk_stride > (std::size_t{1} << 20) || tape.code.size() > (std::size_t{1} << 20)) return nullptr;
 
-    // The pool: fixed entries, then one per constant operand, then the R-operations' factors.
+    // The pool: fixed entries, then one per constant operand, then the instructions' own factors.
     c.fixed_constants.resize(kFixedCount);
     const auto bits = [](std::uint64_t pattern) {
         T value;
@@ -574,10 +639,18 @@ std::unique_ptr<CompiledTape<T>> CompiledTape<T>::compile(const Tape& tape, std:
     c.fixed_constants[kSignBit] = bits(sizeof(T) == 8 ? 0x8000000000000000ull : 0x80000000ull);
     c.fixed_constants[kAbsMask] = bits(sizeof(T) == 8 ? 0x7fffffffffffffffull : 0x7fffffffull);
     c.fixed_constants[kZero] = T(0), c.fixed_constants[kOne] = T(1), c.fixed_constants[kMinusOne] = T(-1);
+    c.fixed_constants[kDivideLow] = std::ldexp(T(1), -CorrectedRange<T>::kExponent);
+    c.fixed_constants[kDivideHigh] = std::ldexp(T(1), CorrectedRange<T>::kExponent);
 
     std::vector<std::array<OperandRef, 4>> refs(tape.code.size());
-    std::vector<uint32_t> r_factors(tape.code.size(), 0);
-    std::vector<T> r_factor_values;
+    std::vector<uint32_t> factors(tape.code.size(), 0);
+    std::vector<ConstantDivisor<T>> divisors(tape.code.size());
+    const auto reads_uniform_at = [&](std::size_t instruction, uint32_t operand) {
+        return std::any_of(tape.uniform_uses.begin(), tape.uniform_uses.end(), [&](const UniformUse& use) {
+            return use.instruction == instruction && use.operand == operand;
+        });
+    };
+    std::vector<T> factor_values;
     for (std::size_t i = 0; i < tape.code.size(); ++i) {
         const Instruction& ins = tape.code[i];
         const auto place_of = [&](uint32_t slot) {
@@ -596,9 +669,16 @@ std::unique_ptr<CompiledTape<T>> CompiledTape<T>::compile(const Tape& tape, std:
             }
         }
         if ((ins.op == ir::Op::RAnd || ins.op == ir::Op::ROr) && ins.imm != 0.0 && ins.imm != 1.0) {
-            r_factors[i] = uint32_t(r_factor_values.size());
-            r_factor_values.push_back(T(2.0 * ins.imm));
-            r_factor_values.push_back(T(1.0 + ins.imm));
+            factors[i] = uint32_t(factor_values.size());
+            factor_values.push_back(T(2.0 * ins.imm));
+            factor_values.push_back(T(1.0 + ins.imm));
+        }
+        if (ins.op == ir::Op::Div && (ins.constant_operands & 2u) && !reads_uniform_at(i, 1)) {
+            divisors[i] = plan_constant_divisor(T(ins.constant[1]));
+            if (divisors[i].kind != DivisorKind::divide) {
+                factors[i] = uint32_t(factor_values.size());
+                factor_values.push_back(divisors[i].reciprocal);
+            }
         }
     }
     std::vector<char> reads_uniform(tape.code.size(), 0);
@@ -608,9 +688,11 @@ std::unique_ptr<CompiledTape<T>> CompiledTape<T>::compile(const Tape& tape, std:
         c.uniform_entries.emplace_back(entry, use.uniform, negated);
         reads_uniform[use.instruction] = 1;
     }
-    const uint32_t r_base = uint32_t(kFixedCount + c.operand_constants.size());
-    for (uint32_t& f : r_factors) f += r_base;
-    c.fixed_constants.insert(c.fixed_constants.end(), r_factor_values.begin(), r_factor_values.end());
+    const uint32_t factor_base = uint32_t(kFixedCount + c.operand_constants.size());
+    for (uint32_t& f : factors) f += factor_base;
+    for (std::size_t i = 0; i < divisors.size(); ++i)
+        if (divisors[i].kind != DivisorKind::divide) c.divisor_entries.emplace_back(uint32_t(i), factors[i], divisors[i]);
+    c.fixed_constants.insert(c.fixed_constants.end(), factor_values.begin(), factor_values.end());
 
     CodeHolder code;
     code.init(runtime().environment());
@@ -652,7 +734,8 @@ std::unique_ptr<CompiledTape<T>> CompiledTape<T>::compile(const Tape& tape, std:
             writer[ins.out] = i;
         }
     }
-    Emitter<T> e(a, last_read);
+    std::vector<std::function<void()>> cold_paths;
+    Emitter<T> e(a, last_read, cold_paths);
     // Constants of the inline functions (tape_jit_math.hpp): pool entries after the others.
     std::map<uint32_t, uint32_t> math_constants;
     const std::function<x86::Mem(uint32_t)> pool_constant = [&](uint32_t bits) {
@@ -665,7 +748,6 @@ std::unique_ptr<CompiledTape<T>> CompiledTape<T>::compile(const Tape& tape, std:
         }
         return Emitter<T>::pool_entry(it->second);
     };
-    std::vector<std::function<void()>> cold_paths;
     // Sites are addressed by the code, so their vector must not move.
     c.sites.reserve(tape.code.size());
     Label block;
@@ -681,12 +763,12 @@ std::unique_ptr<CompiledTape<T>> CompiledTape<T>::compile(const Tape& tape, std:
         if (compiles_inline(tape.code[i])) {
             Instruction emitted = tape.code[i];
             if (emitted.op == ir::Op::Sub && (emitted.constant_operands & 2u)) emitted.op = ir::Op::Add;   // kNegated
-            e.emit(i, emitted, refs[i].data(), r_factors[i], numbers.empty() ? 0 : numbers[i]);
+            e.emit(i, emitted, refs[i].data(), factors[i], numbers.empty() ? 0 : numbers[i], divisors[i]);
             continue;
         }
         e.flush(i - 1);   // the call reads its operands from memory and may change every register
         if constexpr (std::is_same_v<T, float>) {
-            if (inline_math(e, i, tape.code[i].op, refs[i].data(), pool_constant, cold_paths)) continue;
+            if (inline_math(e, i, tape.code[i].op, refs[i].data(), pool_constant)) continue;
             if (void* function = float_vector_function(tape.code[i].op)) {
                 e.call_vector_function(refs[i].data(), ir::op_arity(tape.code[i].op), function);
                 continue;
@@ -722,6 +804,11 @@ bool CompiledTape<T>::reads_code_constants(int lanes) const {
 }
 
 template <class T>
+std::size_t CompiledTape<T>::divisions_by_reciprocal() const {
+    return compiled_->divisor_entries.size();
+}
+
+template <class T>
 void CompiledTape<T>::run(const Instruction* code, std::size_t count, T* const* slots, int lanes,
                           JitScratch<T>& scratch, bool constants_changed, const RowValues<T>* row) const {
     const Compiled& c = *compiled_;
@@ -740,6 +827,13 @@ void CompiledTape<T>::run(const Instruction* code, std::size_t count, T* const* 
             put(operand & kNegated ? -value : value);
         }
         for (std::size_t k = kFixedCount; k < c.fixed_constants.size(); ++k) put(c.fixed_constants[k]);
+        // Other code than the compiled one may have other divisors (tests change them).
+        scratch.divisors_fit = true;
+        for (const auto& [instruction, entry, planned] : c.divisor_entries) {
+            const ConstantDivisor<T> now = plan_constant_divisor(T(code[instruction].constant[1]));
+            scratch.divisors_fit = scratch.divisors_fit && now.kind == planned.kind;
+            std::fill_n(scratch.constants.data() + std::size_t(entry) * kPerVector, kPerVector, now.reciprocal);
+        }
         scratch.constants_of = code;
         scratch.uniforms_row = ~std::size_t{0};
     }
@@ -751,6 +845,10 @@ void CompiledTape<T>::run(const Instruction* code, std::size_t count, T* const* 
             std::fill_n(scratch.constants.data() + std::size_t(entry) * kPerVector, kPerVector, negated ? -value : value);
         }
         scratch.uniforms_row = row->row;
+    }
+    if (!scratch.divisors_fit) {
+        run_lanes<T, 0>(code, count, slots, lanes);
+        return;
     }
     const std::size_t chunks = std::size_t(lanes) / kChunkLanes;
     const std::size_t needed = (chunks * c.chunk_stride + 64) / sizeof(T);

@@ -38,6 +38,9 @@ struct JitScratch {
     std::vector<T*> tail_slots;
     const Instruction* constants_of = nullptr;   ///< the code `constants` was read from
     std::size_t uniforms_row = ~std::size_t{0};  ///< the row RowValues last put in `constants`
+    /// False if a divisor of `constants_of` is not one the code was compiled to multiply by
+    /// (constant_divisor.hpp): the lane kernel then runs instead.
+    bool divisors_fit = true;
 };
 
 /// One row's values of the tape's uniforms (TapeSpec::uniforms): `values[u]`.
@@ -75,6 +78,9 @@ public:
     /// Whether run() over `lanes` lanes reads the uniforms' values from `code`: in the lanes
     /// after the last whole chunk, or for an operation handed back to the lane kernel.
     bool reads_code_constants(int lanes) const;
+
+    /// Divisions by a constant the code multiplies by the reciprocal instead (constant_divisor.hpp).
+    std::size_t divisions_by_reciprocal() const;
 
     struct Site;        ///< an instruction the compiled code hands back to the lane kernel
     struct Compiled;    ///< the machine code and what it reads

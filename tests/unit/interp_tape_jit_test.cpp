@@ -2,6 +2,7 @@
 // a slot or a constant, R-operations of every α, NaN, ±0, ±inf and subnormal arguments, chains
 // whose results stay in registers, tails shorter than a chunk, and constants changed between
 // runs (the voxel engine's per-row values).
+#include "interp/constant_divisor.hpp"
 #include "interp/lane_kernel.hpp"
 #include "interp/tape.hpp"
 #include "interp/tape_jit.hpp"
@@ -309,4 +310,56 @@ TEST_CASE("compiled float32 exp and ln: their narrow path inline, chunks with a 
     CHECK(compiled[0][16 * 32 + (16 * 5) % 32] == inf);   // exp(89.5) overflows
     CHECK(std::isnan(compiled[1][18 * 32 + (18 * 5) % 32]));   // ln(NaN)
     CHECK(compiled[1][20 * 32 + (20 * 5) % 32] == -inf);   // ln(-0)
+}
+
+TEST_CASE("compiled division by a constant: by the reciprocal where exact, chunks with a lane out of range divided") {
+    if (!tape_jit_available()) return;
+    // Powers of two (the reciprocal), divisors within Markstein's bound (the corrected
+    // reciprocal), others (divided), of both signs; one output each, of X read from memory
+    // and of X · Y (Y = 1) held in registers.
+    const double divisors[] = {1, 0.5, -16, 0.9, 1.5, 11, -0.7, 0.15, 30.555555, 1.99999988};
+    ir::Graph g;
+    const ir::NodeId x = g.argument(0), held = g.make(Op::Mul, std::array{x, g.argument(1)});
+    std::vector<ir::NodeId> quotients;
+    for (ir::NodeId numerator : {x, held})
+        for (double c : divisors) quotients.push_back(g.make(Op::Div, std::array{numerator, g.constant(c)}));
+    const Tape tape = compile_tape(g, TapeSpec{quotients, {}, {}});
+    constexpr int kLanes = 1024;
+    const auto check = [&]<class T>(T, std::size_t by_reciprocal) {
+        std::unique_ptr<CompiledTape<T>> jit = CompiledTape<T>::compile(tape);
+        REQUIRE(jit);
+        CHECK(jit->divisions_by_reciprocal() == by_reciprocal);
+        // The first half ordinary numerators of every magnitude in the range; in the second
+        // half each chunk has one lane of another kind, at a different place.
+        constexpr int kRange = CorrectedRange<T>::kExponent;
+        std::mt19937 random(5);
+        std::uniform_real_distribution<double> significand(-2, 2);
+        std::uniform_int_distribution<int> exponent(-kRange, kRange - 1);
+        std::vector<T> xs(kLanes);
+        for (T& v : xs) v = std::ldexp(T(significand(random)), exponent(random));
+        const T inf = std::numeric_limits<T>::infinity(), low = std::ldexp(T(1), -kRange), high = std::ldexp(T(1), kRange);
+        const T edges[] = {T(0), T(-0.0), inf, -inf, std::numeric_limits<T>::quiet_NaN(), std::numeric_limits<T>::denorm_min(),
+                           std::nextafter(low, T(0)), -low, high, -std::nextafter(high, inf), std::numeric_limits<T>::max(),
+                           std::numeric_limits<T>::min()};
+        constexpr int kEdges = sizeof(edges) / sizeof(edges[0]);
+        constexpr int kChunk = CompiledTape<T>::kChunkLanes;
+        for (int chunk = kLanes / kChunk / 2, k = 0; chunk < kLanes / kChunk; ++chunk, ++k)
+            xs[chunk * kChunk + (chunk * 7) % kChunk] = edges[k % kEdges];
+        const Arguments<T> arguments{xs, std::vector<T>(kLanes, T(1)), std::vector<T>(kLanes, T(0))};
+        const auto compiled = check_same<T>(tape, kLanes, nullptr, &arguments);
+        // And as the division gives them, not only as the lane kernel does.
+        for (std::size_t k = 0; k < compiled.size(); ++k)
+            for (int l = 0; l < kLanes; ++l)
+                if (!std::isnan(xs[l])) REQUIRE(same_value(compiled[k][l], T(xs[l] / T(divisors[k % std::size(divisors)]))));
+        // Code with other divisors than those compiled (a power of two for each): where one is
+        // not of the kind compiled for, the lane kernel runs; the values are right either way.
+        std::vector<Instruction> other = tape.code;
+        for (Instruction& ins : other)
+            if (ins.op == Op::Div) ins.constant[1] = 4.0;
+        check_same<T>(tape, kLanes, &other, &arguments);
+    };
+    // float32: 1, 0.5 and -16 exact; 0.9, 1.5, 11, -0.7 and 0.15 corrected; 30.555555 and
+    // 2 − 2^-23 divided. float64: 0.9 is out of the bound too.
+    check(0.0f, 2 * 8);
+    check(0.0, 2 * 7);
 }

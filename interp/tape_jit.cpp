@@ -501,24 +501,48 @@ public:
     /// A float32 function of vector_math_functions.hpp written inline (tape_jit_math.hpp):
     /// `narrow` for the chunk's four vectors, unless `needs_wide` marks a lane of one of them;
     /// then, out of line (`cold`, written after the function's end), call_vector_function
-    /// calls `function` per vector and its results are reloaded. Held values must be
-    /// flushed first: the written code may use every register but the result's group.
+    /// calls `function` per vector and its results are reloaded. The written code gets the
+    /// temporaries and the register groups it needs (exp one, ln two); the operand is read
+    /// where it is held, and the other held values stay in their registers (the cold path
+    /// stores and reloads them around its calls).
     template <class NeedsWide, class Narrow>
     void inline_function(std::size_t i, const OperandRef* refs, NeedsWide needs_wide, Narrow narrow, void* function,
                          const std::function<x86::Mem(uint32_t)>& pool_constant) {
         namespace math = tape_jit_math;
         const OperandRef out = refs[0], in = refs[1];
         prepare(refs, 2);
+        int input_group = in.place == Place::constant ? -1 : group_of(in);
+        if (input_group >= 0) held_[input_group].stamp = ++clock_;
         const int group = result_group(i);
-        std::vector<int> registers;
-        for (int r = 15; r >= 0; --r)
-            if (r < kGroupBase[group] || r >= kGroupBase[group] + kVectors<T>) registers.push_back(r);
+        for (int g = 0; g < kGroups; ++g)   // values nothing reads again: forgotten
+            if (g != group && g != input_group && held_[g].used && last_read_[held_[g].writer] <= i) held_[g].used = false;
+        // The groups the written code needs besides the four temporaries: free ones first, then
+        // the least recently used, stored if still read; the operand's last (read from memory).
+        const int needed = (std::max(registers_needed(needs_wide), registers_needed(narrow)) - 4 + kVectors<T> - 1) / kVectors<T>;
+        std::vector<int> registers{8, 9, 10, 11};
+        bool scratch[kGroups] = {};
+        for (int taken = 0; taken < needed; ++taken) {
+            int pick = -1;
+            for (int g = 0; g < kGroups; ++g) {
+                if (g == group || scratch[g]) continue;
+                const auto rank = [&](int k) { return std::tuple(k == input_group, held_[k].used, held_[k].stamp); };
+                if (pick < 0 || rank(g) < rank(pick)) pick = g;
+            }
+            spill(pick, pick == input_group ? i - 1 : i);
+            held_[pick].used = false;
+            if (pick == input_group) input_group = -1;
+            scratch[pick] = true;
+            for (int v = 0; v < kVectors<T>; ++v) registers.push_back(kGroupBase[pick] + v);
+        }
+        const auto operand = [&](math::Writer& writer, int v) {
+            return input_group >= 0 ? writer.borrow(kGroupBase[input_group] + v) : writer.load(memory(in, 1, v));
+        };
         const Label cold = a_.newLabel(), done = a_.newLabel();
         {
             math::Writer writer(a_, registers, pool_constant);
             math::Value any;
             for (int v = 0; v < kVectors<T>; ++v) {
-                const math::Value mask = needs_wide(writer.load(memory(in, 1, v)));
+                const math::Value mask = needs_wide(operand(writer, v));
                 any = v == 0 ? mask : math::Code::or_mask(any, mask);
             }
             a_.vtestps(any.ymm(), any.ymm());
@@ -526,19 +550,56 @@ public:
         }
         {
             math::Writer writer(a_, registers, pool_constant);
-            for (int v = 0; v < kVectors<T>; ++v)
-                a_.vmovaps(group_register(group, v), narrow(writer.load(memory(in, 1, v))).ymm());
+            for (int v = 0; v < kVectors<T>; ++v) a_.vmovaps(group_register(group, v), narrow(operand(writer, v)).ymm());
         }
         a_.bind(done);
-        cold_paths_.push_back([this, cold, done, operands = std::array{out, in}, group, function] {
+        // The call reads the operand from memory and may change every register: what is held
+        // and not stored is stored first, and the other held values reloaded after.
+        struct GroupValue {
+            int group;
+            OperandRef ref;
+        };
+        std::vector<GroupValue> stored, kept;
+        for (int g = 0; g < kGroups; ++g) {
+            if (!held_[g].used || scratch[g]) continue;
+            if (held_[g].dirty && (g != group || g == input_group)) stored.push_back({g, held_[g].ref});
+            if (g != group) kept.push_back({g, held_[g].ref});
+        }
+        cold_paths_.push_back([this, cold, done, operands = std::array{out, in}, group, function, stored, kept] {
             a_.bind(cold);
+            for (const GroupValue& held : stored)
+                for (int v = 0; v < kVectors<T>; ++v) a_.vmovups(chunk_slot(held.ref.index, v), group_register(held.group, v));
             call_vector_function(operands.data(), 1, function);
             for (int v = 0; v < kVectors<T>; ++v) a_.vmovups(group_register(group, v), memory(operands[0], 0, v));
+            for (const GroupValue& held : kept) {
+                const bool external = held.ref.place == Place::external;   // its pointer in r11 (the call changed rsi..rdx)
+                if (external) a_.mov(x86::r11, x86::ptr(x86::rbx, int32_t(held.ref.index * sizeof(T*))));
+                for (int v = 0; v < kVectors<T>; ++v)
+                    a_.vmovups(group_register(held.group, v), external ? x86::ptr(x86::r11, x86::r14, 0, v * kVectorBytes, kVectorBytes)
+                                                                      : chunk_slot(held.ref.index, v));
+            }
             a_.jmp(done);
         });
         if (out.place == Place::external)
             for (int v = 0; v < kVectors<T>; ++v) store(out, v, group_register(group, v));
+        for (int g = 0; g < kGroups; ++g)
+            if (g != group && group_of(out) == g) held_[g].used = false;
         held_[group] = Held{true, out.place != Place::external, out, i, ++clock_};
+    }
+
+    /// The most registers `function` of one vector (held in a register of its own) holds at once,
+    /// found by writing it once into code that is thrown away.
+    template <class Function>
+    static int registers_needed(Function function) {
+        namespace math = tape_jit_math;
+        CodeHolder code;
+        code.init(runtime().environment());
+        x86::Assembler a(&code);
+        std::vector<int> all(16);
+        for (int r = 0; r < 16; ++r) all[r] = r;
+        math::Writer writer(a, all, [](uint32_t) { return x86::ptr(x86::r13, 0, kVectorBytes); });
+        function(writer.load(x86::ptr(x86::rsi, 0, kVectorBytes)));
+        return writer.peak();
     }
 
     /// An instruction left to the lane kernel: a call with the registers it may clobber
@@ -766,9 +827,10 @@ std::unique_ptr<CompiledTape<T>> CompiledTape<T>::compile(const Tape& tape, std:
             e.emit(i, emitted, refs[i].data(), factors[i], numbers.empty() ? 0 : numbers[i], divisors[i]);
             continue;
         }
+        if constexpr (std::is_same_v<T, float>)
+            if (inline_math(e, i, tape.code[i].op, refs[i].data(), pool_constant)) continue;
         e.flush(i - 1);   // the call reads its operands from memory and may change every register
         if constexpr (std::is_same_v<T, float>) {
-            if (inline_math(e, i, tape.code[i].op, refs[i].data(), pool_constant)) continue;
             if (void* function = float_vector_function(tape.code[i].op)) {
                 e.call_vector_function(refs[i].data(), ir::op_arity(tape.code[i].op), function);
                 continue;

@@ -1,6 +1,8 @@
 // interp/tape_jit_math.cpp — Code's operations as AVX2 instructions (tape_jit_math.hpp).
 #include "interp/tape_jit_math.hpp"
 
+#include <algorithm>
+
 #include <bit>
 #include <stdexcept>
 #include <utility>
@@ -90,6 +92,7 @@ Operand Value::operand() const {
 Writer::Writer(x86::Assembler& assembler, std::vector<int> registers,
                std::function<x86::Mem(std::uint32_t)> pool_entry)
     : a_(assembler), free_(std::move(registers)), pool_entry_(std::move(pool_entry)), previous_(current_writer) {
+    for (int reg : free_) owned_[reg] = true;
     current_writer = this;
 }
 
@@ -101,7 +104,10 @@ Writer& Writer::current() {
 }
 
 void Writer::release(int reg) {
-    if (--uses_[reg] == 0) free_.push_back(reg);
+    if (--uses_[reg] == 0 && owned_[reg]) {
+        free_.push_back(reg);
+        --held_;
+    }
 }
 
 Value Writer::allocate() {
@@ -112,6 +118,7 @@ Value Writer::allocate() {
     v.reg_ = free_.back();
     free_.pop_back();
     retain(v.reg_);
+    peak_ = std::max(peak_, ++held_);
     return v;
 }
 
@@ -119,6 +126,14 @@ Value Writer::load(const x86::Mem& memory) {
     Value d = allocate();
     a_.vmovups(d.ymm(), memory);
     return d;
+}
+
+Value Writer::borrow(int reg) {
+    if (owned_[reg]) throw std::logic_error("tape_jit_math: a borrowed register is the Writer's own");
+    Value v;
+    v.reg_ = reg;
+    retain(reg);
+    return v;
 }
 
 Value Writer::constant(std::uint32_t bits) {

@@ -56,11 +56,16 @@ public:
 
     /// A value loaded from memory into a register of its own.
     Value load(const asmjit::x86::Mem& memory);
+    /// A value already in register `reg`, one not given to the Writer: read, never changed,
+    /// and not taken for other values when its copies go.
+    Value borrow(int reg);
     Value constant(std::uint32_t bits);
     /// A register for a new value.
     Value allocate();
     /// `value` in a register: itself, or a constant loaded.
     Value in_register(const Value& value);
+    /// The most of its own registers the written code has held at once.
+    int peak() const { return peak_; }
 
 private:
     friend class Value;
@@ -70,6 +75,8 @@ private:
     asmjit::x86::Assembler& a_;
     std::vector<int> free_;
     int uses_[16] = {};
+    bool owned_[16] = {};   ///< given to the Writer: free again when a value's copies go
+    int held_ = 0, peak_ = 0;
     std::function<asmjit::x86::Mem(std::uint32_t)> pool_entry_;
     Writer* previous_;
 };

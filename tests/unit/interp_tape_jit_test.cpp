@@ -306,6 +306,20 @@ TEST_CASE("compiled float32 exp and ln: their narrow path inline, chunks with a 
     }
     const Arguments<float> arguments{xs, ys, std::vector<float>(kLanes, 0.0f)};
     const auto compiled = check_same<float>(tape, kLanes, nullptr, &arguments);
+    // Values held in registers across an exp (read after it, made before it: X·Y and the
+    // output X − Y), through chunks that take the call.
+    ir::Graph held_graph;
+    const ir::NodeId hx = held_graph.argument(0), hy = held_graph.argument(1), hz = held_graph.argument(2);
+    const ir::NodeId product = held_graph.make(Op::Mul, std::array{hx, hy});
+    const ir::NodeId difference = held_graph.make(Op::Sub, std::array{hx, hy});
+    const ir::NodeId exp_z = held_graph.make(Op::Exp, std::array{held_graph.make(Op::Mul, std::array{hz, hy})});
+    const ir::NodeId sum = held_graph.make(Op::Add, std::array{held_graph.make(Op::Add, std::array{product, difference}),
+                                                                held_graph.make(Op::Mul, std::array{exp_z, product})});
+    const Tape held_tape = compile_tape(held_graph, TapeSpec{{sum, difference}, {}, {}});
+    std::vector<float> zs(kLanes), ones(kLanes, 1.0f);
+    for (int l = 0; l < kLanes; ++l) zs[l] = xs[l];
+    const Arguments<float> held_arguments{ys, ones, zs};
+    check_same<float>(held_tape, kLanes, nullptr, &held_arguments);
     // The wide lanes gave what exp and ln give there.
     CHECK(compiled[0][16 * 32 + (16 * 5) % 32] == inf);   // exp(89.5) overflows
     CHECK(std::isnan(compiled[1][18 * 32 + (18 * 5) % 32]));   // ln(NaN)

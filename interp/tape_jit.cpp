@@ -908,6 +908,8 @@ void CompiledTape<T>::run(const Instruction* code, std::size_t count, T* const* 
         }
         scratch.uniforms_row = row->row;
     }
+    // (The voxel engine never gets here: the only constants it changes are the uniforms, and
+    // divisions by those are compiled as divisions.)
     if (!scratch.divisors_fit) {
         run_lanes<T, 0>(code, count, slots, lanes);
         return;

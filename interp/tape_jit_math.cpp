@@ -2,7 +2,6 @@
 #include "interp/tape_jit_math.hpp"
 
 #include <algorithm>
-
 #include <bit>
 #include <stdexcept>
 #include <utility>

@@ -4,7 +4,6 @@
 #pragma once
 
 #include "runtime/grid.hpp"
-#include "runtime/zeroed_pages.hpp"
 
 #include <cmath>
 #include <cstddef>
@@ -16,11 +15,12 @@ struct Field {
     Grid grid;
     std::vector<double> values;   ///< grid.points() values in image order
 
-    /// A field of `grid` with every value `fill`; a large one in transparent huge pages.
+    /// A field of `grid` with every value `fill`. In ordinary pages: asked for 2 MiB pages, a
+    /// 256³ field (134 MB) filled in 14 ms when the kernel had them free, but in 190–260 ms
+    /// when another process had just freed its memory (the kernel then compacts memory to
+    /// make them), against 53–58 ms in 4 KiB pages either way (docs/performance.md).
     static Field filled(const Grid& grid, double fill) {
         Field field{grid, {}};
-        field.values.reserve(grid.points());
-        advise_huge_pages(field.values.data(), grid.points() * sizeof(double));
         field.values.assign(grid.points(), fill);
         return field;
     }

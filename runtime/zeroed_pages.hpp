@@ -21,8 +21,9 @@
 namespace fortu {
 
 /// Asks for transparent huge pages over the whole 2 MiB lines inside [p, p + bytes), before
-/// anything touches them: a large field then faults in 2 MiB at a time (a 256³ float64 field
-/// filled in 30–40 ms instead of 100–120, most of it the kernel's 32,768 page faults).
+/// anything touches them: memory then faults in 2 MiB at a time. Worth it for the sign volumes
+/// (most of their pages are never touched); not for full fields, which touch every page and
+/// can wait on the kernel compacting memory for them (field.hpp).
 inline void advise_huge_pages(void* p, std::size_t bytes) {
 #ifdef MADV_HUGEPAGE
     constexpr std::uintptr_t kLine = std::uintptr_t{2} << 20;

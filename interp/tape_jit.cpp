@@ -160,13 +160,18 @@ bool inline_math(E& e, std::size_t i, ir::Op op, const OperandRef* refs,
     if (!vector_math::runs_fortu_function(op) || vector_math::active_isa() == vector_math::Isa::none) return false;
     void* function = vector_math::avx2_vector_function(op);   // for chunks with a lane the narrow path leaves
     if (!function) return false;
+    // The registers each function needs, measured once.
     switch (op) {
-    case ir::Op::Exp:
-        e.inline_function(i, refs, f::exp_needs_wide<Code>, f::exp_narrow<Code>, function, pool_constant);
+    case ir::Op::Exp: {
+        static const int registers = E::registers_needed(f::exp_needs_wide<Code>, f::exp_narrow<Code>);
+        e.inline_function(i, refs, f::exp_needs_wide<Code>, f::exp_narrow<Code>, registers, function, pool_constant);
         return true;
-    case ir::Op::Ln:
-        e.inline_function(i, refs, f::log_needs_wide<Code>, f::log_narrow<Code>, function, pool_constant);
+    }
+    case ir::Op::Ln: {
+        static const int registers = E::registers_needed(f::log_needs_wide<Code>, f::log_narrow<Code>);
+        e.inline_function(i, refs, f::log_needs_wide<Code>, f::log_narrow<Code>, registers, function, pool_constant);
         return true;
+    }
     default: return false;
     }
 }
@@ -502,12 +507,13 @@ public:
     /// `narrow` for the chunk's four vectors, unless `needs_wide` marks a lane of one of them;
     /// then, out of line (`cold`, written after the function's end), call_vector_function
     /// calls `function` per vector and its results are reloaded. The written code gets the
-    /// temporaries and the register groups it needs (exp one, ln two); the operand is read
+    /// temporaries and the register groups for the `registers` it needs (registers_needed:
+    /// exp one group, ln two); the operand is read
     /// where it is held, and the other held values stay in their registers (the cold path
     /// stores and reloads them around its calls).
     template <class NeedsWide, class Narrow>
-    void inline_function(std::size_t i, const OperandRef* refs, NeedsWide needs_wide, Narrow narrow, void* function,
-                         const std::function<x86::Mem(uint32_t)>& pool_constant) {
+    void inline_function(std::size_t i, const OperandRef* refs, NeedsWide needs_wide, Narrow narrow, int registers_used,
+                         void* function, const std::function<x86::Mem(uint32_t)>& pool_constant) {
         namespace math = tape_jit_math;
         const OperandRef out = refs[0], in = refs[1];
         prepare(refs, 2);
@@ -518,7 +524,7 @@ public:
             if (g != group && g != input_group && held_[g].used && last_read_[held_[g].writer] <= i) held_[g].used = false;
         // The groups the written code needs besides the four temporaries: free ones first, then
         // the least recently used, stored if still read; the operand's last (read from memory).
-        const int needed = (std::max(registers_needed(needs_wide), registers_needed(narrow)) - 4 + kVectors<T> - 1) / kVectors<T>;
+        const int needed = (registers_used - 4 + kVectors<T> - 1) / kVectors<T>;
         std::vector<int> registers{8, 9, 10, 11};
         bool scratch[kGroups] = {};
         for (int taken = 0; taken < needed; ++taken) {
@@ -587,19 +593,25 @@ public:
         held_[group] = Held{true, out.place != Place::external, out, i, ++clock_};
     }
 
-    /// The most registers `function` of one vector (held in a register of its own) holds at once,
-    /// found by writing it once into code that is thrown away.
-    template <class Function>
-    static int registers_needed(Function function) {
+    /// The most registers an inline function's check or narrow path (of one vector, held in a
+    /// register of its own) holds at once, found by writing them into code that is thrown away.
+    template <class NeedsWide, class Narrow>
+    static int registers_needed(NeedsWide needs_wide, Narrow narrow) {
         namespace math = tape_jit_math;
-        CodeHolder code;
-        code.init(runtime().environment());
-        x86::Assembler a(&code);
-        std::vector<int> all(16);
-        for (int r = 0; r < 16; ++r) all[r] = r;
-        math::Writer writer(a, all, [](uint32_t) { return x86::ptr(x86::r13, 0, kVectorBytes); });
-        function(writer.load(x86::ptr(x86::rsi, 0, kVectorBytes)));
-        return writer.peak();
+        int most = 0;
+        const auto peak = [&](auto function) {
+            CodeHolder code;
+            code.init(runtime().environment());
+            x86::Assembler a(&code);
+            std::vector<int> all(16);
+            for (int r = 0; r < 16; ++r) all[r] = r;
+            math::Writer writer(a, all, [](uint32_t) { return x86::ptr(x86::r13, 0, kVectorBytes); });
+            function(writer.load(x86::ptr(x86::rsi, 0, kVectorBytes)));
+            most = std::max(most, writer.peak());
+        };
+        peak(needs_wide);
+        peak(narrow);
+        return most;
     }
 
     /// An instruction left to the lane kernel: a call with the registers it may clobber
@@ -706,11 +718,8 @@ std::unique_ptr<CompiledTape<T>> CompiledTape<T>::compile(const Tape& tape, std:
     std::vector<std::array<OperandRef, 4>> refs(tape.code.size());
     std::vector<uint32_t> factors(tape.code.size(), 0);
     std::vector<ConstantDivisor<T>> divisors(tape.code.size());
-    const auto reads_uniform_at = [&](std::size_t instruction, uint32_t operand) {
-        return std::any_of(tape.uniform_uses.begin(), tape.uniform_uses.end(), [&](const UniformUse& use) {
-            return use.instruction == instruction && use.operand == operand;
-        });
-    };
+    std::vector<uint8_t> uniform_operands(tape.code.size(), 0);   // bit k: operand k reads a uniform
+    for (const UniformUse& use : tape.uniform_uses) uniform_operands[use.instruction] |= uint8_t(1u << use.operand);
     std::vector<T> factor_values;
     for (std::size_t i = 0; i < tape.code.size(); ++i) {
         const Instruction& ins = tape.code[i];
@@ -734,7 +743,7 @@ std::unique_ptr<CompiledTape<T>> CompiledTape<T>::compile(const Tape& tape, std:
             factor_values.push_back(T(2.0 * ins.imm));
             factor_values.push_back(T(1.0 + ins.imm));
         }
-        if (ins.op == ir::Op::Div && (ins.constant_operands & 2u) && !reads_uniform_at(i, 1)) {
+        if (ins.op == ir::Op::Div && (ins.constant_operands & 2u) && !(uniform_operands[i] & 2u)) {
             divisors[i] = plan_constant_divisor(T(ins.constant[1]));
             if (divisors[i].kind != DivisorKind::divide) {
                 factors[i] = uint32_t(factor_values.size());
@@ -742,12 +751,10 @@ std::unique_ptr<CompiledTape<T>> CompiledTape<T>::compile(const Tape& tape, std:
             }
         }
     }
-    std::vector<char> reads_uniform(tape.code.size(), 0);
     for (const UniformUse& use : tape.uniform_uses) {
         const uint32_t entry = refs[use.instruction][use.operand + 1].index;
         const bool negated = c.operand_constants[entry - kFixedCount].second & kNegated;
         c.uniform_entries.emplace_back(entry, use.uniform, negated);
-        reads_uniform[use.instruction] = 1;
     }
     const uint32_t factor_base = uint32_t(kFixedCount + c.operand_constants.size());
     for (uint32_t& f : factors) f += factor_base;
@@ -837,7 +844,7 @@ std::unique_ptr<CompiledTape<T>> CompiledTape<T>::compile(const Tape& tape, std:
             }
         }
         c.sites.push_back(Site{uint32_t(i), {refs[i][0], refs[i][1], refs[i][2], refs[i][3]}});
-        c.sites_read_uniforms = c.sites_read_uniforms || reads_uniform[i];
+        c.sites_read_uniforms = c.sites_read_uniforms || uniform_operands[i] != 0;
         e.call_site(&c.sites.back());
     }
     e.flush(tape.code.size());

@@ -13,6 +13,7 @@
 #include "interp/quadrant_intervals.hpp"
 #include "interp/stored_sign.hpp"
 #include "interp/tape.hpp"
+#include "runtime/spread_thread.hpp"
 
 #include <algorithm>
 #include <array>
@@ -22,7 +23,6 @@
 #include <memory>
 #include <optional>
 #include <stdexcept>
-#include <thread>
 #include <type_traits>
 #include <vector>
 
@@ -492,9 +492,9 @@ void render_signs(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
     // only mapped, here. A cancelled render reads NaN everywhere, so no unreached node passes
     // for outside.
     std::exception_ptr allocation_failure;
-    std::jthread allocation;   // joined on any exit, so an exception cannot leave it running
+    std::optional<SpreadThread> allocation;   // joined on any exit, so an exception cannot leave it running
     if constexpr (std::is_same_v<Value, double>) {
-        allocation = std::jthread([&] {
+        allocation.emplace([&] {
             try {
                 signs.assign(grid.points(), kBackgroundSign);
             } catch (...) {
@@ -584,7 +584,7 @@ void render_signs(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
         items = std::move(next);
         if (options.cancel && options.cancel->load()) break;
     }
-    if (allocation.joinable()) allocation.join();
+    if (allocation) allocation->join();
     if (allocation_failure) std::rethrow_exception(allocation_failure);
     std::size_t decided_points = 0;
     for (const Decided& d : decided) {

@@ -3,6 +3,8 @@
 // image writers. Items are handed out one at a time, so uneven items still balance.
 #pragma once
 
+#include "runtime/spread_thread.hpp"
+
 #include <algorithm>
 #include <atomic>
 #include <cstddef>
@@ -46,10 +48,11 @@ void parallel_for(std::size_t count, int threads, const std::atomic<bool>* cance
         }
     };
     const int workers = worker_count(count, threads);
-    std::vector<std::thread> pool;
-    for (int t = 1; t < workers; ++t) pool.emplace_back(worker, t);
+    std::vector<SpreadThread> pool;   // joined on any exit, so no worker outlives this frame
+    pool.reserve(workers);
+    for (int t = 1; t < workers; ++t) pool.emplace_back([&worker, t] { worker(t); });
     worker(0);
-    for (std::thread& t : pool) t.join();
+    for (SpreadThread& t : pool) t.join();
     if (failure) std::rethrow_exception(failure);
 }
 

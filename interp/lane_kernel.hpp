@@ -33,8 +33,17 @@ void run_lanes(const Instruction* code, std::size_t count, T* const* slots, int 
         [[maybe_unused]] const T kb = T(ins->constant[1]);
         [[maybe_unused]] const T kc = T(ins->constant[2]);
         const unsigned mask = ins->constant_operands;
-        // float32 transcendentals: SLEEF's vectors instead of libm once per lane.
+        // float32 transcendentals: SLEEF's vectors instead of libm once per lane; a sin and
+        // cos of one operand side by side both from one sincos.
         if constexpr (std::is_same_v<T, float>) {
+            if (ins + 1 != code + count && sincos_twins(ins[0], ins[1])) {
+                const bool sin_first = ins->op == Op::Sin;
+                if (vector_math::run_float_sincos(A, slots[sin_first ? ins[0].out : ins[1].out],
+                                                  slots[sin_first ? ins[1].out : ins[0].out], lanes)) {
+                    ++ins;
+                    continue;
+                }
+            }
             if (vector_math::has_vector_kernel(ins->op) &&
                 vector_math::run_float(ins->op, A, B, ka, kb, mask, out, lanes))
                 continue;

@@ -5,6 +5,7 @@
 #include <array>
 #include <span>
 #include <stdexcept>
+#include <unordered_map>
 
 namespace fortu {
 namespace {
@@ -87,6 +88,41 @@ std::vector<ir::NodeId> locality_order(const ir::Graph& graph, std::span<const i
     return order;
 }
 
+/// `order` with the sin and cos of one operand side by side: the later of the two moves up
+/// to just after the earlier (still after its operand, still before its users), so the float32
+/// lanes compute both with one sincos (sincos_twins, vector_math.hpp).
+std::vector<ir::NodeId> with_sincos_twins_adjacent(const ir::Graph& graph, std::vector<ir::NodeId> order,
+                                                   const std::vector<char>& stop) {
+    std::unordered_map<ir::NodeId, std::array<std::size_t, 2>> by_operand;   // operand: positions of sin, cos
+    constexpr std::size_t kAbsent = ~std::size_t{0};
+    for (std::size_t i = 0; i < order.size(); ++i) {
+        const ir::NodeId id = order[i];
+        const ir::Op op = graph.node(id).op;
+        if ((op != ir::Op::Sin && op != ir::Op::Cos) || !computed_here(graph, stop, id)) continue;
+        const ir::NodeId operand = graph.node(id).args[0];
+        if (graph.node(operand).op == ir::Op::Const) continue;   // read as an immediate: no twin runs
+        auto [it, added] = by_operand.try_emplace(operand, std::array<std::size_t, 2>{kAbsent, kAbsent});
+        it->second[op == ir::Op::Sin ? 0 : 1] = i;
+    }
+    std::vector<std::size_t> twin_of(order.size(), kAbsent);
+    bool any = false;
+    for (const auto& [operand, at] : by_operand) {
+        if (at[0] == kAbsent || at[1] == kAbsent) continue;
+        twin_of[std::min(at[0], at[1])] = std::max(at[0], at[1]);
+        twin_of[std::max(at[0], at[1])] = std::min(at[0], at[1]);
+        any = true;
+    }
+    if (!any) return order;
+    std::vector<ir::NodeId> paired;
+    paired.reserve(order.size());
+    for (std::size_t i = 0; i < order.size(); ++i) {
+        if (twin_of[i] != kAbsent && twin_of[i] < i) continue;   // placed beside its twin
+        paired.push_back(order[i]);
+        if (twin_of[i] != kAbsent) paired.push_back(order[twin_of[i]]);
+    }
+    return paired;
+}
+
 }  // namespace
 
 Tape compile_tape(const ir::Graph& graph, const TapeSpec& spec) {
@@ -107,8 +143,9 @@ Tape compile_tape(const ir::Graph& graph, const TapeSpec& spec) {
         if (uniform_index[out] != kNone) throw std::logic_error("compile_tape: a uniform cannot be an output");
     // SSA tapes keep the ids' order: the per-box passes that walk them (box_simplify.hpp,
     // interval.hpp) cost the same in either, and the reordering would cost them its time.
-    const std::vector<ir::NodeId> order =
-        spec.reuse_slots ? locality_order(graph, spec.outputs, stop) : graph.reachable(spec.outputs, &stop);
+    const std::vector<ir::NodeId> order = with_sincos_twins_adjacent(
+        graph, spec.reuse_slots ? locality_order(graph, spec.outputs, stop) : graph.reachable(spec.outputs, &stop),
+        stop);
     tape.node_count = order.size();
     auto computed = [&](ir::NodeId id) { return computed_here(graph, stop, id); };
 

@@ -34,6 +34,16 @@ struct Instruction {
     double constant[ir::kMaxArity] = {0.0, 0.0, 0.0};
 };
 
+/// Whether `first` and `second` are the sin and cos (either order) of one operand read from
+/// a slot: compile_tape puts such twins next to each other, and the float32 lanes (the lane
+/// kernel and compiled tapes alike) compute them with one sincos (vector_math.hpp).
+inline bool sincos_twins(const Instruction& first, const Instruction& second) {
+    const bool ops = (first.op == ir::Op::Sin && second.op == ir::Op::Cos) ||
+                     (first.op == ir::Op::Cos && second.op == ir::Op::Sin);
+    return ops && first.constant_operands == 0 && second.constant_operands == 0 && first.in[0] == second.in[0] &&
+           first.out != second.out;
+}
+
 struct TapeSpec {
     std::vector<ir::NodeId> outputs;    ///< computed and kept to the end; [0] is the model's root
     std::vector<ir::NodeId> inputs;     ///< supplied per tile as lane arrays

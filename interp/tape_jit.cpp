@@ -71,6 +71,10 @@ template <class T>
 struct CompiledTape<T>::Site {
     uint32_t index;           ///< the instruction in the code
     OperandRef refs[4];       ///< out, then the three operands
+    /// With a twin: code[index + 1] is the sin or cos of the same operand (sincos_twins),
+    /// run with it as one sincos, its result written to `twin_out`.
+    bool twin = false;
+    OperandRef twin_out{};
 };
 
 template <class T>
@@ -130,10 +134,23 @@ void run_site(const Context<T>* context, const SiteOf<T>* site, std::size_t exte
                        ? context->scratch + internal_offset / sizeof(T) + std::size_t(ref.index) * kLanes
                        : context->slots[ref.index] + external_offset / sizeof(T);
     }
-    Instruction ins = context->code[site->index];
-    ins.out = 0;
-    ins.in[0] = 1, ins.in[1] = 2, ins.in[2] = 3;
-    run_lanes<T, kLanes>(&ins, 1, lanes, kLanes);
+    Instruction ins[2] = {context->code[site->index], {}};
+    ins[0].out = 0;
+    ins[0].in[0] = 1, ins[0].in[1] = 2, ins[0].in[2] = 3;
+    if (!site->twin) {
+        run_lanes<T, kLanes>(ins, 1, lanes, kLanes);
+        return;
+    }
+    // The pair as the lane kernel runs it in a tape: one sincos (lane_kernel.hpp).
+    T* pair_lanes[5] = {lanes[0], lanes[1], lanes[2], lanes[3], nullptr};
+    const OperandRef& twin_ref = site->twin_out;
+    pair_lanes[4] = twin_ref.place == Place::internal
+                        ? context->scratch + internal_offset / sizeof(T) + std::size_t(twin_ref.index) * kLanes
+                        : context->slots[twin_ref.index] + external_offset / sizeof(T);
+    ins[1] = context->code[site->index + 1];
+    ins[1].out = 4;
+    ins[1].in[0] = 1, ins[1].in[1] = 2, ins[1].in[2] = 3;
+    run_lanes<T, kLanes>(ins, 2, pair_lanes, kLanes);
 }
 
 /// The 8-lane function for a float32 operation (SLEEF's or fortu's own), the one
@@ -838,6 +855,13 @@ std::unique_ptr<CompiledTape<T>> CompiledTape<T>::compile(const Tape& tape, std:
             if (inline_math(e, i, tape.code[i].op, refs[i].data(), pool_constant)) continue;
         e.flush(i - 1);   // the call reads its operands from memory and may change every register
         if constexpr (std::is_same_v<T, float>) {
+            // A sin and cos of one operand: one site for both, as the lane kernel runs them.
+            if (i + 1 < tape.code.size() && sincos_twins(tape.code[i], tape.code[i + 1])) {
+                c.sites.push_back(Site{uint32_t(i), {refs[i][0], refs[i][1], refs[i][2], refs[i][3]}, true, refs[i + 1][0]});
+                e.call_site(&c.sites.back());
+                ++i;
+                continue;
+            }
             if (void* function = float_vector_function(tape.code[i].op)) {
                 e.call_vector_function(refs[i].data(), ir::op_arity(tape.code[i].op), function);
                 continue;

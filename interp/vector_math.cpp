@@ -41,10 +41,23 @@ const Kernel* table_of(Isa isa) {
     }
 }
 
+SinCosKernel sincos_of(Isa isa) {
+    switch (isa) {
+#if defined(FORTU_VECTOR_MATH_AVX512)
+    case Isa::avx512: return kAvx512SinCos;
+#endif
+#if defined(FORTU_VECTOR_MATH_AVX2)
+    case Isa::avx2: return kAvx2SinCos;
+#endif
+    default: return nullptr;
+    }
+}
+
 struct Choice {
     Isa best = detect();
     Isa active = best;
     const Kernel* table = table_of(best);
+    SinCosKernel sincos = sincos_of(best);
 };
 
 Choice& choice() {
@@ -61,6 +74,7 @@ void use_isa(Isa isa) {
     Choice& c = choice();
     c.active = static_cast<int>(isa) < static_cast<int>(c.best) ? isa : c.best;
     c.table = table_of(c.active);
+    c.sincos = sincos_of(c.active);
 }
 
 const char* isa_name(Isa isa) {
@@ -78,6 +92,13 @@ bool run_float(ir::Op op, const float* a, const float* b, float ka, float kb, un
     const int slot = kSlotOfOp[static_cast<int>(op)];
     if (table == nullptr || slot < 0) return false;
     table[slot](a, b, ka, kb, constant_mask, out, lanes);
+    return true;
+}
+
+bool run_float_sincos(const float* a, float* sin_out, float* cos_out, int lanes) {
+    const SinCosKernel kernel = choice().sincos;
+    if (kernel == nullptr) return false;
+    kernel(a, sin_out, cos_out, lanes);
     return true;
 }
 

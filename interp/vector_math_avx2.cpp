@@ -4,6 +4,7 @@
 // vector_math_functions.hpp (see vector_math_kernels.hpp for why).
 #include "interp/vector_math_kernels.hpp"
 #include "interp/vector_math_functions.hpp"
+#include "interp/vector_math_lanes.hpp"
 
 #include <immintrin.h>
 #include <sleef.h>
@@ -43,34 +44,25 @@ struct Avx2 {
     static M or_mask(M a, M b) { return _mm256_or_ps(a, b); }
     static bool any(M m) { return _mm256_movemask_ps(m) != 0; }
     static F select(M m, F if_true, F if_false) { return _mm256_blendv_ps(if_false, if_true, m); }
+    static constexpr int kWidth = 8;
+    using Tail = __m256i;
+    static Tail tail(int remaining) {
+        return _mm256_cmpgt_epi32(_mm256_set1_epi32(remaining), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+    }
+    static F load(const float* p) { return _mm256_loadu_ps(p); }
+    static F load(const float* p, Tail keep) { return _mm256_maskload_ps(p, keep); }
+    static void store(float* p, F v) { _mm256_storeu_ps(p, v); }
+    static void store(float* p, Tail keep, F v) { _mm256_maskstore_ps(p, keep, v); }
 };
 
 // One vector through an op's function: SLEEF's, or fortu's own instantiated for 8 lanes.
 #define FORTU_VECTOR_CALL_sleef(name, accuracy) Sleef_##name##f8_##accuracy##avx2
 #define FORTU_VECTOR_CALL_fortu(name, accuracy) functions::name<Avx2>
 
-/// The lane loop: whole vectors, then the remainder through masked loads and stores
-/// (masked-off lanes read 0.0f, which no function traps on).
-template <class F>
-inline void lanes_loop(F f, const float* a, const float* b, float ka, float kb, unsigned mask,
-                       float* out, int lanes) {
-    const __m256 va = _mm256_set1_ps(ka);
-    const __m256 vb = _mm256_set1_ps(kb);
-    const bool a_constant = (mask & 1) != 0;
-    const bool b_constant = (mask & 2) != 0 || b == nullptr;
-    int l = 0;
-    for (; l + 8 <= lanes; l += 8) {
-        const __m256 x = a_constant ? va : _mm256_loadu_ps(a + l);
-        const __m256 y = b_constant ? vb : _mm256_loadu_ps(b + l);
-        _mm256_storeu_ps(out + l, f(x, y));
-    }
-    if (l < lanes) {
-        const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
-        const __m256i keep = _mm256_cmpgt_epi32(_mm256_set1_epi32(lanes - l), lane);
-        const __m256 x = a_constant ? va : _mm256_maskload_ps(a + l, keep);
-        const __m256 y = b_constant ? vb : _mm256_maskload_ps(b + l, keep);
-        _mm256_maskstore_ps(out + l, keep, f(x, y));
-    }
+/// sin and cos of the same lanes from one reduction (vector_math.hpp, run_float_sincos).
+void sincos_lanes(const float* a, float* sin_out, float* cos_out, int lanes) {
+    lanes_loop<Avx2, true>([](Avx2::F x, Avx2::F) { return Sleef_sincosf8_u10avx2(x); }, a, nullptr, 0.0f, 0.0f, 0, sin_out, lanes,
+                          cos_out);
 }
 
 // fortu's own functions also as one-vector functions, for the compiled tapes (the lane
@@ -81,13 +73,13 @@ inline void lanes_loop(F f, const float* a, const float* b, float ka, float kb, 
 
 #define FORTU_VECTOR_MATH_1(op, name, library, accuracy, ulp, lo, hi)                              \
     void op(const float* a, const float*, float ka, float kb, unsigned mask, float* out, int n) {   \
-        lanes_loop([](__m256 x, __m256) { return FORTU_VECTOR_CALL_##library(name, accuracy)(x); }, \
+        lanes_loop<Avx2>([](__m256 x, __m256) { return FORTU_VECTOR_CALL_##library(name, accuracy)(x); }, \
                    a, nullptr, ka, kb, mask, out, n);                                               \
     }                                                                                               \
     FORTU_VECTOR_ONE_##library(op, name)
 #define FORTU_VECTOR_MATH_2(op, name, library, accuracy, ulp, lo, hi)                                    \
     void op(const float* a, const float* b, float ka, float kb, unsigned mask, float* out, int n) {       \
-        lanes_loop([](__m256 x, __m256 y) { return FORTU_VECTOR_CALL_##library(name, accuracy)(x, y); }, \
+        lanes_loop<Avx2>([](__m256 x, __m256 y) { return FORTU_VECTOR_CALL_##library(name, accuracy)(x, y); }, \
                    a, b, ka, kb, mask, out, n);                                                          \
     }
 #include "interp/vector_math.def"
@@ -103,6 +95,8 @@ const Kernel kAvx2Kernels[kSlotCount] = {
 #define FORTU_VECTOR_MATH_2(op, name, library, accuracy, ulp, lo, hi) &op,
 #include "interp/vector_math.def"
 };
+
+const SinCosKernel kAvx2SinCos = &sincos_lanes;
 
 void* const kAvx2VectorFunctions[kSlotCount] = {
 #define FORTU_VECTOR_MATH_1(op, name, library, accuracy, ulp, lo, hi) FORTU_VECTOR_ADDRESS_##library(op, name, accuracy),

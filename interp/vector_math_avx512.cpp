@@ -5,6 +5,7 @@
 // are the AVX2 file's templates on 16 lanes: the same operations, so the same values.
 #include "interp/vector_math_kernels.hpp"
 #include "interp/vector_math_functions.hpp"
+#include "interp/vector_math_lanes.hpp"
 
 #include <immintrin.h>
 #include <sleef.h>
@@ -50,48 +51,40 @@ struct Avx512 {
     static M or_mask(M a, M b) { return static_cast<M>(a | b); }
     static bool any(M m) { return m != 0; }
     static F select(M m, F if_true, F if_false) { return _mm512_mask_blend_ps(m, if_false, if_true); }
+    static constexpr int kWidth = 16;
+    using Tail = __mmask16;
+    static Tail tail(int remaining) { return static_cast<Tail>((1u << remaining) - 1u); }
+    static F load(const float* p) { return _mm512_loadu_ps(p); }
+    static F load(const float* p, Tail keep) { return _mm512_maskz_loadu_ps(keep, p); }
+    static void store(float* p, F v) { _mm512_storeu_ps(p, v); }
+    static void store(float* p, Tail keep, F v) { _mm512_mask_storeu_ps(p, keep, v); }
 };
 
 // One vector through an op's function: SLEEF's, or fortu's own instantiated for 16 lanes.
 #define FORTU_VECTOR_CALL_sleef(name, accuracy) Sleef_##name##f16_##accuracy##avx512f
 #define FORTU_VECTOR_CALL_fortu(name, accuracy) functions::name<Avx512>
 
-/// The lane loop: whole vectors, then the remainder through masked loads and stores
-/// (masked-off lanes read 0.0f, which no function traps on).
-template <class F>
-inline void lanes_loop(F f, const float* a, const float* b, float ka, float kb, unsigned mask,
-                       float* out, int lanes) {
-    const __m512 va = _mm512_set1_ps(ka);
-    const __m512 vb = _mm512_set1_ps(kb);
-    const bool a_constant = (mask & 1) != 0;
-    const bool b_constant = (mask & 2) != 0 || b == nullptr;
-    int l = 0;
-    for (; l + 16 <= lanes; l += 16) {
-        const __m512 x = a_constant ? va : _mm512_loadu_ps(a + l);
-        const __m512 y = b_constant ? vb : _mm512_loadu_ps(b + l);
-        _mm512_storeu_ps(out + l, f(x, y));
-    }
-    if (l < lanes) {
-        const __mmask16 keep = static_cast<__mmask16>((1u << (lanes - l)) - 1u);
-        const __m512 x = a_constant ? va : _mm512_maskz_loadu_ps(keep, a + l);
-        const __m512 y = b_constant ? vb : _mm512_maskz_loadu_ps(keep, b + l);
-        _mm512_mask_storeu_ps(out + l, keep, f(x, y));
-    }
+/// sin and cos of the same lanes from one reduction (vector_math.hpp, run_float_sincos).
+void sincos_lanes(const float* a, float* sin_out, float* cos_out, int lanes) {
+    lanes_loop<Avx512, true>([](Avx512::F x, Avx512::F) { return Sleef_sincosf16_u10avx512f(x); }, a, nullptr, 0.0f, 0.0f, 0, sin_out, lanes,
+                          cos_out);
 }
 
 #define FORTU_VECTOR_MATH_1(op, name, library, accuracy, ulp, lo, hi)                                \
     void op(const float* a, const float*, float ka, float kb, unsigned mask, float* out, int n) { \
-        lanes_loop([](__m512 x, __m512) { return FORTU_VECTOR_CALL_##library(name, accuracy)(x); },\
+        lanes_loop<Avx512>([](__m512 x, __m512) { return FORTU_VECTOR_CALL_##library(name, accuracy)(x); },\
                    a, nullptr, ka, kb, mask, out, n);                                                  \
     }
 #define FORTU_VECTOR_MATH_2(op, name, library, accuracy, ulp, lo, hi)                                \
     void op(const float* a, const float* b, float ka, float kb, unsigned mask, float* out, int n) { \
-        lanes_loop([](__m512 x, __m512 y) { return FORTU_VECTOR_CALL_##library(name, accuracy)(x, y); },\
+        lanes_loop<Avx512>([](__m512 x, __m512 y) { return FORTU_VECTOR_CALL_##library(name, accuracy)(x, y); },\
                    a, b, ka, kb, mask, out, n);                                                  \
     }
 #include "interp/vector_math.def"
 
 }  // namespace
+
+const SinCosKernel kAvx512SinCos = &sincos_lanes;
 
 const Kernel kAvx512Kernels[kSlotCount] = {
 #define FORTU_VECTOR_MATH_1(op, name, library, accuracy, ulp, lo, hi) &op,

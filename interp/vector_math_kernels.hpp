@@ -22,6 +22,11 @@ using Kernel = void (*)(const float* a, const float* b, float ka, float kb, unsi
 
 extern const Kernel kAvx2Kernels[kSlotCount];
 extern const Kernel kAvx512Kernels[kSlotCount];
+
+/// sin_out[l] = sin(a[l]), cos_out[l] = cos(a[l]) for l < lanes, both from one SLEEF sincos.
+using SinCosKernel = void (*)(const float* a, float* sin_out, float* cos_out, int lanes);
+extern const SinCosKernel kAvx2SinCos;
+extern const SinCosKernel kAvx512SinCos;
 /// Each op's function on one AVX2 vector (SysV: operands in ymm0, ymm1, result in ymm0),
 /// the one kAvx2Kernels calls, for the compiled tapes.
 extern void* const kAvx2VectorFunctions[kSlotCount];

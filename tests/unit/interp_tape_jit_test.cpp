@@ -377,3 +377,50 @@ TEST_CASE("compiled division by a constant: by the reciprocal where exact, chunk
     check(0.0f, 2 * 8);
     check(0.0, 2 * 7);
 }
+
+TEST_CASE("a sin and cos of one angle run as one sincos: in the lane loops, compiled, and the same bits") {
+    // A rotation by an angle that varies over the domain, as RANOK's twisted blades write it.
+    auto c = test::compile_text("ARGUMENT X, Y, Z;\nA = 3 * Z + X * Y;\nXX = X * COS(A) + Z * SIN(A);\n"
+                                "YY = -X * SIN(A) + Z * COS(A);\nRETURN 0.5 - XX * XX - 4 * YY * YY - Y * Y;\n");
+    REQUIRE_MESSAGE(c.model, c.sink.render_all());
+    // The lane loops: the pair's lanes are run_float_sincos's, which differ from SLEEF's own
+    // sin and cos in the last bit here and there (so the pair did not run them).
+    const Tape tape = compile_tape(c.model->graph, c.model->root);
+    std::size_t pair = tape.code.size();
+    for (std::size_t i = 0; i + 1 < tape.code.size(); ++i)
+        if (sincos_twins(tape.code[i], tape.code[i + 1])) pair = i;
+    REQUIRE(pair < tape.code.size());
+    constexpr int kLanes = 4096;
+    std::vector<std::vector<float>> storage(tape.slot_count, std::vector<float>(kLanes, 0.0f));
+    std::vector<float*> slots(tape.slot_count);
+    for (uint32_t s = 0; s < tape.slot_count; ++s) slots[s] = storage[s].data();
+    for (auto [slot, axis] : tape.arguments)
+        for (int l = 0; l < kLanes; ++l) storage[slot][l] = float(std::ldexp(l - kLanes / 2, -9) * (axis + 1));
+    // Up to the pair only: later instructions may reuse the angle's or the pair's slots.
+    run_lanes<float, 0>(tape.code.data(), pair + 2, slots.data(), kLanes);
+    const Instruction& first = tape.code[pair];
+    const Instruction& second = tape.code[pair + 1];
+    const float* angle = slots[first.in[0]];
+    std::vector<float> sines(kLanes), cosines(kLanes), sines_alone(kLanes);
+    REQUIRE(vector_math::run_float_sincos(angle, sines.data(), cosines.data(), kLanes));
+    REQUIRE(vector_math::run_float(Op::Sin, angle, nullptr, 0, 0, 0, sines_alone.data(), kLanes));
+    const float* got_sin = slots[first.op == Op::Sin ? first.out : second.out];
+    const float* got_cos = slots[first.op == Op::Sin ? second.out : first.out];
+    int sin_differs = 0, cos_differs = 0, alone_differs = 0;
+    for (int l = 0; l < kLanes; ++l) {
+        sin_differs += std::memcmp(&got_sin[l], &sines[l], 4) != 0;
+        cos_differs += std::memcmp(&got_cos[l], &cosines[l], 4) != 0;
+        alone_differs += std::memcmp(&sines_alone[l], &sines[l], 4) != 0;
+    }
+    CHECK(sin_differs == 0);
+    CHECK(cos_differs == 0);
+    CHECK(alone_differs > 0);
+    // Compiled: one site for the pair, the lane loops' bits.
+    if (!tape_jit_available()) return;
+    Grid cube;
+    cube.dims = 3;
+    cube.x = cube.y = cube.z = {-1.1, 1.2, 41};
+    const auto [compiled, lanes] = compiled_and_lanes(*c.model, cube, Precision::Float32);
+    REQUIRE(compiled.values.size() == lanes.values.size());
+    CHECK(same_values(compiled.values, lanes.values));
+}

@@ -49,3 +49,23 @@ TEST_CASE("reused slots follow a depth-first order: bear.vm, imported level by l
     for (std::size_t l = 0; l < points.size(); ++l) differing += std::memcmp(&actual[l], &expected[l], sizeof(double)) != 0;
     CHECK(differing == 0);
 }
+
+TEST_CASE("a sin and a cos of one operand sit side by side in both tape kinds, wherever the model writes them") {
+    // COS(T) early, SIN(T) at the end, SIN(U) without a twin, COS of a constant folded.
+    auto c = test::compile_text("ARGUMENT X, Y;\nT = X * Y + 0.5;\nU = X - Y;\nA = X * COS(T) + SIN(U);\n"
+                                "B = A * A - Y * COS(2) + Y;\nRETURN B + X * SIN(T);\n");
+    REQUIRE_MESSAGE(c.model, c.sink.render_all());
+    for (const bool reuse : {false, true}) {
+        CAPTURE(reuse);
+        const Tape tape = compile_tape(c.model->graph, TapeSpec{{c.model->root}, {}, {}, reuse});
+        int twins = 0, sines = 0, cosines = 0;
+        for (std::size_t i = 0; i < tape.code.size(); ++i) {
+            sines += tape.code[i].op == ir::Op::Sin;
+            cosines += tape.code[i].op == ir::Op::Cos;
+            if (i + 1 < tape.code.size()) twins += sincos_twins(tape.code[i], tape.code[i + 1]);
+        }
+        CHECK(sines == 2);
+        CHECK(cosines == 1);
+        CHECK(twins == 1);
+    }
+}

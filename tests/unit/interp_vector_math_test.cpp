@@ -11,6 +11,7 @@
 #include <doctest/doctest.h>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #if defined(__AVX2__)
@@ -146,6 +147,51 @@ TEST_CASE("every vector kernel is within its stated ULP of libm over its sweep, 
             CHECK(worst <= v.ulp);
         }
     }
+    vector_math::use_isa(vector_math::Isa::avx512);
+}
+
+TEST_CASE("sin and cos from one sincos: within Sin's and Cos's ULP of libm over their sweep, the same on every ISA") {
+    const VectorOp* sin_op = nullptr;
+    const VectorOp* cos_op = nullptr;
+    for (const VectorOp& v : vector_ops()) {
+        if (v.op == ir::Op::Sin) sin_op = &v;
+        if (v.op == ir::Op::Cos) cos_op = &v;
+    }
+    REQUIRE(sin_op);
+    REQUIRE(cos_op);
+    std::vector<float> a, unused;
+    sweep(*sin_op, a, unused);
+    const int n = static_cast<int>(a.size());
+    std::vector<std::vector<float>> sines, cosines;
+    for (vector_math::Isa isa : isas_here()) {
+        vector_math::use_isa(isa);
+        CAPTURE(std::string(vector_math::isa_name(isa)));
+        std::vector<float> s(n + 3, -7.0f), c(n + 3, -7.0f);
+        REQUIRE(vector_math::run_float_sincos(a.data(), s.data(), c.data(), n));
+        double worst_sin = 0.0, worst_cos = 0.0;
+        for (int i = 0; i < n; ++i) {
+            worst_sin = std::max(worst_sin, ulp_error(s[i], std::sin(double(a[i]))));
+            worst_cos = std::max(worst_cos, ulp_error(c[i], std::cos(double(a[i]))));
+        }
+        MESSAGE(fmt::format("{} sincos: worst {:.4f} ULP (sin), {:.4f} ULP (cos)", vector_math::isa_name(isa), worst_sin,
+                            worst_cos));
+        CHECK(worst_sin <= sin_op->ulp);
+        CHECK(worst_cos <= cos_op->ulp);
+        for (int i = n; i < n + 3; ++i) CHECK((s[i] == -7.0f && c[i] == -7.0f));   // nothing past the lanes
+        sines.push_back(s);
+        cosines.push_back(c);
+    }
+    std::size_t differing = 0;
+    for (std::size_t k = 1; k < sines.size(); ++k)
+        for (int i = 0; i < n; ++i) {
+            const auto differ = [](float x, float y) { return !(std::isnan(x) && std::isnan(y)) && !same_bits(x, y); };
+            differing += differ(sines[0][i], sines[k][i]) + differ(cosines[0][i], cosines[k][i]);
+        }
+    CHECK(differing == 0);
+    vector_math::use_isa(vector_math::Isa::none);
+    float x = 1.0f, s = 0.0f, c = 0.0f;
+    CHECK_FALSE(vector_math::run_float_sincos(&x, &s, &c, 1));
+    CHECK(s == 0.0f);
     vector_math::use_isa(vector_math::Isa::avx512);
 }
 

@@ -9,7 +9,9 @@
 #include <sched.h>
 
 #include <atomic>
+#include <chrono>
 #include <stdexcept>
+#include <thread>
 #include <vector>
 
 using namespace fortu;
@@ -51,6 +53,33 @@ TEST_CASE("parallel_for rethrows an item's exception after its threads stopped")
                          "item 3", std::runtime_error);
     CHECK(started >= 4);
     CHECK(started <= 100);
+}
+
+TEST_CASE("parallel_for returns once every item has ended, and nothing runs an item after it returned") {
+    std::vector<std::atomic<int>> calls(64);
+    parallel_for(calls.size(), 4, nullptr, [&](std::size_t i, int) {
+        std::this_thread::sleep_for(std::chrono::microseconds(200));
+        ++calls[i];
+    });
+    int wrong = 0;
+    for (const auto& c : calls) wrong += c != 1;
+    CHECK(wrong == 0);
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));   // no worker outlived the call
+    for (const auto& c : calls) wrong += c != 1;
+    CHECK(wrong == 0);
+}
+
+TEST_CASE("parallel_for runs no item after the cancel flag is set") {
+    std::atomic<bool> cancel{false};
+    std::atomic<int> ran{0}, after_cancel{0};
+    parallel_for(10000, 2, &cancel, [&](std::size_t i, int) {
+        if (cancel.load()) ++after_cancel;
+        ++ran;
+        if (i == 100) cancel = true;
+    });
+    CHECK(ran >= 101);
+    CHECK(ran < 10000);
+    CHECK(after_cancel <= 1);   // the other thread may have taken one item as the flag was set
 }
 
 TEST_CASE("a SpreadThread runs its work with the process's whole affinity, started elsewhere or not") {

@@ -10,6 +10,8 @@
 #include "cli/picture_options.hpp"
 #include "cli/standard_streams.hpp"
 
+#include "interp/tape_jit.hpp"
+#include "interp/vector_math.hpp"
 #include "runtime/grid.hpp"
 #include "runtime/output.hpp"
 #include "runtime/output_formats.hpp"
@@ -119,6 +121,33 @@ void add_grid_options(OptionTable& t, CliOptions& o) {
              });
 }
 
+void use_isa_named(const std::string& name) {
+    if (name == "avx2") {
+        if (!tape_jit_available() && vector_math::best_isa() == vector_math::Isa::none)
+            throw UsageError("--isa avx2: this CPU has no AVX2");
+        vector_math::use_isa(vector_math::Isa::avx2);
+        use_tape_jit_width(JitWidth::avx2);
+    } else if (name == "avx512") {
+        if (vector_math::best_isa() != vector_math::Isa::avx512 || !tape_jit_avx512_available())
+            throw UsageError("--isa avx512: this CPU (or this build) has no AVX-512");
+        vector_math::use_isa(vector_math::Isa::avx512);
+        use_tape_jit_width(JitWidth::avx512);
+    } else {
+        throw UsageError(fmt::format("--isa: '{}' is not avx2 or avx512", name));
+    }
+}
+
+}  // namespace
+
+void add_isa_option(OptionTable& t) {
+    t.option("--isa", "avx2|avx512", "the widest vector instructions used (default: AVX-512 where\n"
+                                     "the CPU runs it at full width, else AVX2; float32 sin, cos\n"
+                                     "and the like may differ in the last bit between the two)",
+             [](const std::string& v) { use_isa_named(v); });
+}
+
+namespace {
+
 void add_engine_options(OptionTable& t, CliOptions& o, EngineChoice& choice, bool grids) {
     const std::string engine_help = fmt::format("the engine (default {}):", default_engine().name()) + engine_summaries();
     t.option("--engine", "NAME", engine_help, [&o, &choice](const std::string& e) {
@@ -144,6 +173,7 @@ void add_engine_options(OptionTable& t, CliOptions& o, EngineChoice& choice, boo
     t.flag("--no-jit", "the voxel engine runs its tape through its lane loops instead\n"
                        "of machine code compiled for it (the same values; to compare)",
            [&o] { o.engine_settings.compile = false; });
+    add_isa_option(t);
     if (grids) add_fv_options(t, o);
     if (grids)
         t.option("--threads", "N", "worker threads (default: all cores)",

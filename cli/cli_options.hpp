@@ -67,6 +67,11 @@ bool is_stdout_path(const std::string& path);
 /// Parses argv (without the program name). Throws UsageError.
 CliOptions parse_command_line(const std::vector<std::string>& args);
 
+/// `--isa avx2|avx512` in `t`: narrows (or widens, up to what the CPU has) the vector
+/// instructions of the lane loops' transcendentals and of the compiled tapes, at once (a
+/// usage error where the CPU lacks them).
+void add_isa_option(OptionTable& t);
+
 /// The text of `fortu --help`: the commands, then run's options.
 std::string usage_text();
 

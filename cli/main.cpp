@@ -365,7 +365,7 @@ int command_run_files(const CliOptions& o) {
             format_operations(double(s.operations)),
             can.hoists ? hoisted_text(s) : "", engine->name(),
             can.sign_only ? " (interval sign renderer)" : can.float32 ? " (float32)" : "", o.threads > 0 ? o.threads : int(std::max(1u, std::thread::hardware_concurrency())),
-            lane_loop_isa(), !tape_jit_available() ? "none" : o.engine_settings.compile ? "AVX2" : "off (--no-jit)",
+            lane_loop_isa(), !tape_jit_available() ? "none" : o.engine_settings.compile ? jit_width_name(tape_jit_width()) : "off (--no-jit)",
             vector_math::isa_name(vector_math::active_isa()), vector_math::libraries_text(), compile_seconds, eval_seconds, write_seconds,
             format_operations(eval_seconds > 0 ? double(grid.points()) / eval_seconds : 0.0),
             stats.min, stats.max, stats.positive, stats.zero, stats.negative, stats.invalid,

@@ -9,8 +9,12 @@
 #include "interp/vector_math_functions.hpp"
 
 #include <asmjit/x86.h>
+#if defined(__x86_64__)
+#include <cpuid.h>
+#endif
 
 #include <algorithm>
+#include <atomic>
 #include <cstdint>
 #include <cstring>
 #include <functional>
@@ -25,9 +29,13 @@ namespace {
 
 using namespace asmjit;
 
-/// Vectors per chunk.
-template <class T>
-constexpr int kVectors = CompiledTape<T>::kChunkLanes * int(sizeof(T)) / 32;
+/// Vectors per chunk: four independent chains of each operation, so that the core has
+/// work while one waits for its operand (a fused multiply-add takes 4 cycles, and two issue
+/// a cycle).
+constexpr int kVectors = 4;
+/// Bytes of one vector: ymm (AVX2) or zmm (AVX-512).
+template <bool kWide>
+constexpr int kVectorBytesOf = kWide ? 64 : 32;
 /// Machine code per block (about a dozen instructions). With only the last result in
 /// registers, prospero.vm ran 5.6 s with the whole tape as one loop over the chunks, 2.4 s
 /// with blocks of 16 KB, 1.0 s with 4 KB, 0.63 s with 1 KB and 0.40 s with 256 bytes
@@ -35,7 +43,6 @@ constexpr int kVectors = CompiledTape<T>::kChunkLanes * int(sizeof(T)) / 32;
 /// stores and loads of what they hold: medians of 5, 0.35 s at 256 bytes, 0.33 s at 512,
 /// 0.31 s at 1 KB, 0.32 s at 2 KB, 0.47 s at 4 KB (float64: 0.72 s at 1 KB, 0.90 s at 2 KB).
 constexpr std::size_t kBlockBytes = 1024;
-constexpr int kVectorBytes = 32;
 
 /// Where an operand's lanes are: the chunk's own slots (`internal`), the caller's slot
 /// arrays at the chunk's offset (`external`), or a constant (`constant`, a pool entry).
@@ -81,6 +88,9 @@ template <class T>
 struct CompiledTape<T>::Compiled {
     using Function = void (*)(const void* context);
     Function function = nullptr;
+    int chunk_lanes = 0;    ///< four vectors' lanes
+    int vector_bytes = 0;   ///< 32 (ymm) or 64 (zmm): also each pool entry's size
+    JitWidth width = JitWidth::avx2;
     std::vector<Site> sites;
     uint32_t internal_slots = 0;
     /// Bytes from one chunk's slots to the next's: a cache line more than they take, so the
@@ -119,11 +129,11 @@ struct Context {
 template <class T>
 using SiteOf = typename CompiledTape<T>::Site;
 
-/// The lane kernel for one instruction of the chunk: the operations not compiled inline.
-template <class T>
+/// The lane kernel for one instruction of the chunk (kLanes lanes): the operations not
+/// compiled inline.
+template <class T, int kLanes>
 void run_site(const Context<T>* context, const SiteOf<T>* site, std::size_t external_offset,
               std::size_t internal_offset) {
-    constexpr int kLanes = CompiledTape<T>::kChunkLanes;
     T* lanes[4];
     for (int k = 0; k < 4; ++k) {
         // A constant operand's index is a pool entry, no slot: the kernel reads the
@@ -153,17 +163,14 @@ void run_site(const Context<T>* context, const SiteOf<T>* site, std::size_t exte
     run_lanes<T, kLanes>(ins, 2, pair_lanes, kLanes);
 }
 
-/// The 8-lane function for a float32 operation (SLEEF's or fortu's own), the one
-/// vector_math's AVX2 kernels call (vector_math.def), or nullptr. Only while vector_math runs
-/// its AVX2 table: the AVX-512 kernels' SLEEF functions need not round the same.
-void* float_vector_function(ir::Op op) {
-#if defined(__AVX2__)
-    if (vector_math::active_isa() != vector_math::Isa::avx2) return nullptr;
-    return vector_math::avx2_vector_function(op);
-#else
-    (void)op;
-    return nullptr;
-#endif
+/// The one-vector function for a float32 operation (SLEEF's or fortu's own) that
+/// vector_math's kernels of the code's width call (vector_math.def), or nullptr. Only while
+/// vector_math runs the kernels of that width: SLEEF's AVX2 and AVX-512 functions need not
+/// round the same, and the compiled code must give the lane loops' values.
+void* float_vector_function(ir::Op op, bool wide) {
+    const vector_math::Isa isa = wide ? vector_math::Isa::avx512 : vector_math::Isa::avx2;
+    if (vector_math::active_isa() != isa) return nullptr;
+    return wide ? vector_math::avx512_vector_function(op) : vector_math::avx2_vector_function(op);
 }
 
 /// A float32 function compiled inline from vector_math_functions.hpp's template, where the
@@ -175,7 +182,8 @@ bool inline_math(E& e, std::size_t i, ir::Op op, const OperandRef* refs,
     using Code = tape_jit_math::Code;
     namespace f = vector_math::functions;
     if (!vector_math::runs_fortu_function(op) || vector_math::active_isa() == vector_math::Isa::none) return false;
-    void* function = vector_math::avx2_vector_function(op);   // for chunks with a lane the narrow path leaves
+    // For chunks with a lane the narrow path leaves: fortu's own function at the code's width.
+    void* function = E::kWide ? vector_math::avx512_vector_function(op) : vector_math::avx2_vector_function(op);
     if (!function) return false;
     // The registers each function needs, measured once.
     switch (op) {
@@ -205,24 +213,27 @@ bool compiles_inline(const Instruction& ins) {
     }
 }
 
-/// Register groups that hold one value of the chunk each (its four vectors): ymm0..3,
-/// ymm4..7 and ymm12..15; ymm8..11 are temporaries.
-constexpr int kGroups = 3;
-constexpr int kGroupBase[kGroups] = {0, 4, 12};
-
-/// The code generator: registers rbx = slot pointers, r12 = chunk slots, r13 = constants,
+/// The code generator, for ymm registers (AVX2) or zmm (kWide: AVX-512, comparisons into
+/// k1..k3 and blends under them): registers rbx = slot pointers, r12 = chunk slots, r13 = constants,
 /// r14 = the chunk's byte offset in the caller's arrays, r15 = its offset in the chunk slots,
-/// rbp = context. The register groups keep the last three results made in a block (read
+/// rbp = context. The register groups keep the last results made in a block (three in AVX2,
+/// seven in AVX-512's 32 registers: bear.vm's 128³ float32 field 99 → 93 ms) (read
 /// from there, not from memory: a store and a load on every link of a chain of dependent
 /// instructions would make it wait for store forwarding); a result goes to memory only when
 /// its group is needed for another while it still has readers, or where the block ends or
 /// a call comes, and only if it has readers after that. Constants are memory operands into
 /// the pool, one vector per constant.
-template <class T>
+template <class T, bool kWideCode>
 class Emitter {
 public:
     static constexpr bool kDouble = std::is_same_v<T, double>;
-    static constexpr int kLanes = CompiledTape<T>::kChunkLanes;
+    static constexpr bool kWide = kWideCode;
+    static constexpr int kVectorBytes = kVectorBytesOf<kWide>;
+    static constexpr int kLanes = kVectors * kVectorBytes / int(sizeof(T));
+    /// Register groups that hold one value of the chunk each (its four vectors): 0..3, 4..7,
+    /// 12..15 and, on AVX-512 (32 registers), 16..19 up to 28..31; 8..11 are temporaries.
+    static constexpr int kGroups = kWide ? 7 : 3;
+    static constexpr int kGroupBase[7] = {0, 4, 12, 16, 20, 24, 28};
 
     /// `last_read[i]`: the last instruction that reads instruction i's result (i if none).
     /// `cold_paths`: code written after the function's end, reached only from the code before it.
@@ -248,7 +259,45 @@ public:
             if (held_[g].used && held_[g].ref.place == ref.place && held_[g].ref.index == ref.index) return g;
         return -1;
     }
-    static x86::Ymm group_register(int g, int v) { return x86::ymm(kGroupBase[g] + v); }
+    static x86::Vec vec(int reg) {
+        if constexpr (kWide) return x86::zmm(reg);
+        else return x86::ymm(reg);
+    }
+    static x86::Vec group_register(int g, int v) { return vec(kGroupBase[g] + v); }
+
+    /// Mask n (1..3) for a comparison's result: k1..k3, or in AVX2 a temporary (ymm8, ymm9,
+    /// ymm11), which the operation must then leave alone.
+    static x86::Reg mask(int n) {
+        if constexpr (kWide) return x86::k(n);
+        else return x86::ymm(n == 1 ? 8 : n == 2 ? 9 : 11);
+    }
+    /// m = x <predicate> y.
+    void compare(const x86::Reg& m, const x86::Vec& x, const Operand_& y, int predicate) {
+        a_.emit(id(x86::Inst::kIdVcmpps, x86::Inst::kIdVcmppd), m, x, y, Imm(predicate));
+    }
+    /// r = m ? if_true : if_false, lane by lane.
+    void blend(const x86::Vec& r, const x86::Vec& if_false, const Operand_& if_true, const x86::Reg& m) {
+        if constexpr (kWide)
+            a_.k(m.as<x86::KReg>()).emit(id(x86::Inst::kIdVblendmps, x86::Inst::kIdVblendmpd), r, if_false, if_true);
+        else
+            a_.emit(id(x86::Inst::kIdVblendvps, x86::Inst::kIdVblendvpd), r, if_false, if_true, m);
+    }
+    /// d = a | b of two masks.
+    void mask_or(const x86::Reg& d, const x86::Reg& a, const x86::Reg& b) {
+        if constexpr (kWide) a_.korw(d.as<x86::KReg>(), a.as<x86::KReg>(), b.as<x86::KReg>());
+        else a_.emit(id(x86::Inst::kIdVorps, x86::Inst::kIdVorpd), d, a, b);
+    }
+    void jump_if_any(const x86::Reg& m, const Label& target) {
+        if constexpr (kWide) a_.kortestw(m.as<x86::KReg>(), m.as<x86::KReg>());
+        else a_.emit(id(x86::Inst::kIdVtestps, x86::Inst::kIdVtestpd), m, m);
+        a_.jnz(target);
+    }
+    /// A bitwise operation on floats: on zmm its integer form (vandps on zmm needs AVX512DQ,
+    /// vpandd only AVX512F; the same bits).
+    InstId bitwise(InstId single, InstId dbl, InstId wide_single, InstId wide_double) const {
+        if constexpr (kWide) return id(wide_single, wide_double);
+        else return id(single, dbl);
+    }
 
     /// Operand k's vector v as an operand: a register (a held result) or memory.
     Operand_ source(const OperandRef& ref, int k, int v) const {
@@ -285,14 +334,14 @@ public:
 
     /// Operand k's vector v in a register: a constant's, the last result's, or loaded into
     /// `scratch` (never the result register, which may hold another operand).
-    x86::Ymm in_register(const OperandRef& ref, int k, int v, const x86::Ymm& scratch) {
+    x86::Vec in_register(const OperandRef& ref, int k, int v, const x86::Vec& scratch) {
         const Operand_ src = source(ref, k, v);
-        if (src.isReg()) return src.as<x86::Ymm>();
+        if (src.isReg()) return src.as<x86::Vec>();
         a_.vmovups(scratch, src.as<x86::Mem>());
         return scratch;
     }
 
-    void store(const OperandRef& out, int v, const x86::Ymm& value) { a_.vmovups(memory(out, 0, v), value); }
+    void store(const OperandRef& out, int v, const x86::Vec& value) { a_.vmovups(memory(out, 0, v), value); }
 
     /// Instruction i inline (compiles_inline), its result left in a register group.
     /// `numbers`: bit k set if operand k is never NaN. `factors`: the first of the
@@ -308,11 +357,11 @@ public:
         const int group = result_group(i);
         const bool store_out = out.place == Place::external;
         const auto each_vector = [&](auto body) {
-            for (int v = 0; v < kVectors<T>; ++v) body(v, group_register(group, v));
+            for (int v = 0; v < kVectors; ++v) body(v, group_register(group, v));
             if (store_out)
-                for (int v = 0; v < kVectors<T>; ++v) store(out, v, group_register(group, v));
+                for (int v = 0; v < kVectors; ++v) store(out, v, group_register(group, v));
         };
-        const x86::Ymm t8 = x86::ymm(8), t9 = x86::ymm(9), t10 = x86::ymm(10), t11 = x86::ymm(11);
+        const x86::Vec t8 = vec(8), t10 = vec(10), t11 = vec(11);
         // Operand k in a register, in t10 if it is not held; a constant is loaded once for the
         // four vectors (the instruction must leave t10 alone).
         const auto in_t10 = [&](int k, int v) {
@@ -325,11 +374,9 @@ public:
         const InstId mul = id(x86::Inst::kIdVmulps, x86::Inst::kIdVmulpd);
         const InstId div = id(x86::Inst::kIdVdivps, x86::Inst::kIdVdivpd);
         const InstId sqrt = id(x86::Inst::kIdVsqrtps, x86::Inst::kIdVsqrtpd);
-        const InstId cmp = id(x86::Inst::kIdVcmpps, x86::Inst::kIdVcmppd);
-        const InstId blend = id(x86::Inst::kIdVblendvps, x86::Inst::kIdVblendvpd);
         const auto binary = [&](InstId op) {
             prepare(refs, 3);
-            each_vector([&](int v, const x86::Ymm& r) { a_.emit(op, r, first(v), source(in[1], 2, v)); });
+            each_vector([&](int v, const x86::Vec& r) { a_.emit(op, r, first(v), source(in[1], 2, v)); });
         };
         // a + b and a × b are b + a and b × a (which NaN of two comes out aside): the operand
         // held in registers goes first, the other is read from memory by the instruction.
@@ -338,11 +385,11 @@ public:
             const bool swap = group_of(in[0]) < 0 && (group_of(in[1]) >= 0 ||
                                                       (in[1].place == Place::constant && in[0].place != Place::constant));
             const int x = swap ? 1 : 0, y = 1 - x;
-            each_vector([&](int v, const x86::Ymm& r) { a_.emit(op, r, in_t10(x, v), source(in[y], y + 1, v)); });
+            each_vector([&](int v, const x86::Vec& r) { a_.emit(op, r, in_t10(x, v), source(in[y], y + 1, v)); });
         };
         const auto with_mask = [&](InstId op, uint32_t mask) {  // r = mask op a
             prepare(refs, 2);
-            each_vector([&](int v, const x86::Ymm& r) {
+            each_vector([&](int v, const x86::Vec& r) {
                 a_.emit(op, r, in_register(in[0], 1, v, t10), pool_entry(mask));
             });
         };
@@ -350,15 +397,15 @@ public:
         // unless a is NaN.
         const auto min_max = [&](InstId op) {
             prepare(refs, 3);
-            each_vector([&](int v, const x86::Ymm& r) {
-                const x86::Ymm x = first(v);
+            each_vector([&](int v, const x86::Vec& r) {
+                const x86::Vec x = first(v);
                 if (numbers & 1u) {
                     a_.emit(op, r, x, source(in[1], 2, v));
                     return;
                 }
                 a_.emit(op, t8, x, source(in[1], 2, v));
-                a_.emit(cmp, t9, x, x, Imm(3));   // unordered: x is NaN
-                a_.emit(blend, r, t8, x, t9);
+                compare(mask(2), x, x, 3);   // unordered: x is NaN
+                blend(r, t8, x, mask(2));
             });
         };
         const InstId min = id(x86::Inst::kIdVminps, x86::Inst::kIdVminpd);
@@ -370,7 +417,7 @@ public:
         case Op::Div:
             if (divisor.kind == DivisorKind::exact_reciprocal) {
                 prepare(refs, 3);
-                each_vector([&](int v, const x86::Ymm& r) { a_.emit(mul, r, first(v), pool_entry(factors)); });
+                each_vector([&](int v, const x86::Vec& r) { a_.emit(mul, r, first(v), pool_entry(factors)); });
             } else if (divisor.kind == DivisorKind::corrected_reciprocal) {
                 divide_by_corrected_reciprocal(refs, group, factors, store_out);
             } else {
@@ -379,43 +426,47 @@ public:
             break;
         case Op::Min: min_max(min); break;
         case Op::Max: min_max(max); break;
-        case Op::Neg: with_mask(id(x86::Inst::kIdVxorps, x86::Inst::kIdVxorpd), kSignBit); break;
-        case Op::Abs: with_mask(id(x86::Inst::kIdVandps, x86::Inst::kIdVandpd), kAbsMask); break;
+        case Op::Neg:
+            with_mask(bitwise(x86::Inst::kIdVxorps, x86::Inst::kIdVxorpd, x86::Inst::kIdVpxord, x86::Inst::kIdVpxorq), kSignBit);
+            break;
+        case Op::Abs:
+            with_mask(bitwise(x86::Inst::kIdVandps, x86::Inst::kIdVandpd, x86::Inst::kIdVpandd, x86::Inst::kIdVpandq), kAbsMask);
+            break;
         case Op::Square:
             prepare(refs, 2);
-            each_vector([&](int v, const x86::Ymm& r) {
-                const x86::Ymm x = in_register(in[0], 1, v, t10);
+            each_vector([&](int v, const x86::Vec& r) {
+                const x86::Vec x = in_register(in[0], 1, v, t10);
                 a_.emit(mul, r, x, x);
             });
             break;
         case Op::Sqrt:
             prepare(refs, 2);
-            each_vector([&](int v, const x86::Ymm& r) { a_.emit(sqrt, r, source(in[0], 1, v)); });
+            each_vector([&](int v, const x86::Vec& r) { a_.emit(sqrt, r, source(in[0], 1, v)); });
             break;
         case Op::Sign:   // a > 0 ? 1 : a < 0 ? -1 : a
             prepare(refs, 2);
-            each_vector([&](int v, const x86::Ymm& r) {
-                const x86::Ymm x = in_register(in[0], 1, v, t10);
-                a_.emit(cmp, t8, x, pool_entry(kZero), Imm(0x1E));   // x > 0, ordered
-                a_.emit(cmp, t9, x, pool_entry(kZero), Imm(0x11));   // x < 0, ordered
-                a_.emit(blend, t11, x, pool_entry(kOne), t8);
-                a_.emit(blend, r, t11, pool_entry(kMinusOne), t9);
+            each_vector([&](int v, const x86::Vec& r) {
+                const x86::Vec x = in_register(in[0], 1, v, t10);
+                compare(mask(1), x, pool_entry(kZero), 0x1E);   // x > 0, ordered
+                compare(mask(2), x, pool_entry(kZero), 0x11);   // x < 0, ordered
+                blend(t11, x, pool_entry(kOne), mask(1));
+                blend(r, t11, pool_entry(kMinusOne), mask(2));
             });
             break;
         case Op::Select:   // c > 0 ? a : (c != c ? c : b), operands c, a, b
             prepare(refs, 4);
-            each_vector([&](int v, const x86::Ymm& r) {
-                const x86::Ymm c = in_register(in[0], 1, v, t10);
-                const x86::Ymm a = in_register(in[1], 2, v, t11);
-                const x86::Ymm b = in_register(in[2], 3, v, t9);
-                a_.emit(cmp, t8, c, pool_entry(kZero), Imm(0x1E));
+            each_vector([&](int v, const x86::Vec& r) {
+                const x86::Vec c = in_register(in[0], 1, v, t10);
+                const x86::Vec a = in_register(in[1], 2, v, t11);
+                const x86::Vec b = in_register(in[2], 3, v, vec(9));
+                compare(mask(1), c, pool_entry(kZero), 0x1E);
                 if (numbers & 1u) {
-                    a_.emit(blend, r, b, a, t8);
+                    blend(r, b, a, mask(1));
                     return;
                 }
-                a_.emit(blend, t11, b, a, t8);
-                a_.emit(cmp, t8, c, c, Imm(3));
-                a_.emit(blend, r, t11, c, t8);
+                blend(t11, b, a, mask(1));
+                compare(mask(1), c, c, 3);
+                blend(r, t11, c, mask(1));
             });
             break;
         case Op::RAnd:
@@ -428,9 +479,10 @@ public:
             }
             // R0: (a + b) ∓ sqrt(a*a + b*b); Rα: ((a + b) ∓ sqrt((a*a + b*b) - 2α*(a*b))) / (1 + α)
             prepare(refs, 3);
-            each_vector([&](int v, const x86::Ymm& r) {
-                const x86::Ymm a = in_register(in[0], 1, v, t10);
-                const x86::Ymm b = in_register(in[1], 2, v, t11);
+            each_vector([&](int v, const x86::Vec& r) {
+                const x86::Vec a = in_register(in[0], 1, v, t10);
+                const x86::Vec b = in_register(in[1], 2, v, t11);
+                const x86::Vec t9 = vec(9);
                 a_.emit(mul, t8, a, a);
                 a_.emit(mul, t9, b, b);
                 a_.emit(add, t8, t8, t9);
@@ -459,26 +511,28 @@ public:
     /// then, out of line, by division.
     void divide_by_corrected_reciprocal(const OperandRef* refs, int group, uint32_t reciprocal, bool store_out) {
         const OperandRef* in = refs + 1;
-        const x86::Ymm t8 = x86::ymm(8), t9 = x86::ymm(9), t10 = x86::ymm(10), t11 = x86::ymm(11);
+        const x86::Vec t8 = vec(8), t9 = vec(9), t10 = vec(10), t11 = vec(11);
         const x86::Mem divisor = pool_entry(in[1].index);
         prepare(refs, 3);
         const Label cold = a_.newLabel(), done = a_.newLabel();
-        for (int v = 0; v < kVectors<T>; ++v) {
-            const x86::Ymm x = in_register(in[0], 1, v, t10);
-            a_.emit(id(x86::Inst::kIdVandps, x86::Inst::kIdVandpd), t11, x, pool_entry(kAbsMask));
-            a_.emit(id(x86::Inst::kIdVcmpps, x86::Inst::kIdVcmppd), t9, t11, pool_entry(kDivideHigh), Imm(0x1E));   // >, ordered
-            a_.emit(id(x86::Inst::kIdVcmpps, x86::Inst::kIdVcmppd), t11, t11, pool_entry(kDivideLow), Imm(0x11));   // <, ordered
-            a_.emit(id(x86::Inst::kIdVorps, x86::Inst::kIdVorpd), v == 0 ? t8 : t11, t11, t9);
-            if (v > 0) a_.emit(id(x86::Inst::kIdVorps, x86::Inst::kIdVorpd), t8, t8, t11);
+        // Lanes out of range, in mask(1): each vector's in mask(2) (above) and mask(3) (below;
+        // in AVX2 that is t11, which held |x|).
+        for (int v = 0; v < kVectors; ++v) {
+            const x86::Vec x = in_register(in[0], 1, v, t10);
+            a_.emit(bitwise(x86::Inst::kIdVandps, x86::Inst::kIdVandpd, x86::Inst::kIdVpandd, x86::Inst::kIdVpandq), t11, x,
+                    pool_entry(kAbsMask));
+            compare(mask(2), t11, pool_entry(kDivideHigh), 0x1E);   // >, ordered
+            compare(mask(3), t11, pool_entry(kDivideLow), 0x11);    // <, ordered
+            mask_or(v == 0 ? mask(1) : mask(3), mask(3), mask(2));
+            if (v > 0) mask_or(mask(1), mask(1), mask(3));
         }
-        a_.emit(id(x86::Inst::kIdVtestps, x86::Inst::kIdVtestpd), t8, t8);
-        a_.jnz(cold);
-        std::array<Operand_, kVectors<T>> sources;
-        for (int v = 0; v < kVectors<T>; ++v) {
+        jump_if_any(mask(1), cold);
+        std::array<Operand_, kVectors> sources;
+        for (int v = 0; v < kVectors; ++v) {
             sources[v] = source(in[0], 1, v);
-            const x86::Ymm x = in_register(in[0], 1, v, t10);
-            const x86::Ymm r = group_register(group, v);
-            const x86::Ymm q = x.id() == r.id() ? t8 : r;
+            const x86::Vec x = in_register(in[0], 1, v, t10);
+            const x86::Vec r = group_register(group, v);
+            const x86::Vec q = x.id() == r.id() ? t8 : r;
             a_.emit(id(x86::Inst::kIdVmulps, x86::Inst::kIdVmulpd), q, x, pool_entry(reciprocal));
             a_.emit(id(x86::Inst::kIdVmovaps, x86::Inst::kIdVmovapd), t9, q);
             a_.emit(id(x86::Inst::kIdVfmsub132ps, x86::Inst::kIdVfmsub132pd), t9, x, divisor);   // q0·c − x
@@ -487,13 +541,13 @@ public:
         }
         a_.bind(done);
         if (store_out)
-            for (int v = 0; v < kVectors<T>; ++v) store(refs[0], v, group_register(group, v));
+            for (int v = 0; v < kVectors; ++v) store(refs[0], v, group_register(group, v));
         // Out of line, the registers are as at the jump: held operands are still there.
         cold_paths_.push_back([this, cold, done, sources, divisor, group] {
             a_.bind(cold);
-            for (int v = 0; v < kVectors<T>; ++v) {
-                x86::Ymm x = x86::ymm(10);
-                if (sources[v].isReg()) x = sources[v].template as<x86::Ymm>();
+            for (int v = 0; v < kVectors; ++v) {
+                x86::Vec x = vec(10);
+                if (sources[v].isReg()) x = sources[v].template as<x86::Vec>();
                 else a_.vmovups(x, sources[v].template as<x86::Mem>());
                 a_.emit(id(x86::Inst::kIdVdivps, x86::Inst::kIdVdivpd), group_register(group, v), x, divisor);
             }
@@ -506,17 +560,17 @@ public:
     /// register). Reads and writes memory only, so a cold path written later may use it too.
     void call_vector_function(const OperandRef* refs, int arity, void* function) {
         const OperandRef* in = refs + 1;
-        for (int v = 0; v < kVectors<T>; ++v) {
+        for (int v = 0; v < kVectors; ++v) {
             for (int k = arity - 1; k >= 0; --k) {
                 if (in[k].place == Place::external)
                     a_.mov(pointer_reg(k + 1), x86::ptr(x86::rbx, int32_t(in[k].index * sizeof(T*))));
-                a_.vmovups(x86::ymm(k), memory(in[k], k + 1, v));
+                a_.vmovups(vec(k), memory(in[k], k + 1, v));
             }
             a_.mov(x86::rax, Imm(reinterpret_cast<uint64_t>(function)));
             a_.call(x86::rax);
             if (refs[0].place == Place::external)
                 a_.mov(pointer_reg(0), x86::ptr(x86::rbx, int32_t(refs[0].index * sizeof(T*))));
-            store(refs[0], v, x86::ymm(0));
+            store(refs[0], v, vec(0));
         }
     }
 
@@ -541,7 +595,7 @@ public:
             if (g != group && g != input_group && held_[g].used && last_read_[held_[g].writer] <= i) held_[g].used = false;
         // The groups the written code needs besides the four temporaries: free ones first, then
         // the least recently used, stored if still read; the operand's last (read from memory).
-        const int needed = (registers_used - 4 + kVectors<T> - 1) / kVectors<T>;
+        const int needed = (registers_used - 4 + kVectors - 1) / kVectors;
         std::vector<int> registers{8, 9, 10, 11};
         bool scratch[kGroups] = {};
         for (int taken = 0; taken < needed; ++taken) {
@@ -555,25 +609,24 @@ public:
             held_[pick].used = false;
             if (pick == input_group) input_group = -1;
             scratch[pick] = true;
-            for (int v = 0; v < kVectors<T>; ++v) registers.push_back(kGroupBase[pick] + v);
+            for (int v = 0; v < kVectors; ++v) registers.push_back(kGroupBase[pick] + v);
         }
         const auto operand = [&](math::Writer& writer, int v) {
             return input_group >= 0 ? writer.borrow(kGroupBase[input_group] + v) : writer.load(memory(in, 1, v));
         };
         const Label cold = a_.newLabel(), done = a_.newLabel();
         {
-            math::Writer writer(a_, registers, pool_constant);
+            math::Writer writer(a_, registers, pool_constant, kWide);
             math::Value any;
-            for (int v = 0; v < kVectors<T>; ++v) {
-                const math::Value mask = needs_wide(operand(writer, v));
-                any = v == 0 ? mask : math::Code::or_mask(any, mask);
+            for (int v = 0; v < kVectors; ++v) {
+                const math::Value lanes = needs_wide(operand(writer, v));
+                any = v == 0 ? lanes : math::Code::or_mask(any, lanes);
             }
-            a_.vtestps(any.ymm(), any.ymm());
-            a_.jnz(cold);
+            writer.jump_if_any(any, cold);
         }
         {
-            math::Writer writer(a_, registers, pool_constant);
-            for (int v = 0; v < kVectors<T>; ++v) a_.vmovaps(group_register(group, v), narrow(operand(writer, v)).ymm());
+            math::Writer writer(a_, registers, pool_constant, kWide);
+            for (int v = 0; v < kVectors; ++v) a_.vmovaps(group_register(group, v), narrow(operand(writer, v)).vec());
         }
         a_.bind(done);
         // The call reads the operand from memory and may change every register: what is held
@@ -591,20 +644,20 @@ public:
         cold_paths_.push_back([this, cold, done, operands = std::array{out, in}, group, function, stored, kept] {
             a_.bind(cold);
             for (const GroupValue& held : stored)
-                for (int v = 0; v < kVectors<T>; ++v) a_.vmovups(chunk_slot(held.ref.index, v), group_register(held.group, v));
+                for (int v = 0; v < kVectors; ++v) a_.vmovups(chunk_slot(held.ref.index, v), group_register(held.group, v));
             call_vector_function(operands.data(), 1, function);
-            for (int v = 0; v < kVectors<T>; ++v) a_.vmovups(group_register(group, v), memory(operands[0], 0, v));
+            for (int v = 0; v < kVectors; ++v) a_.vmovups(group_register(group, v), memory(operands[0], 0, v));
             for (const GroupValue& held : kept) {
                 const bool external = held.ref.place == Place::external;   // its pointer in r11 (the call changed rsi..rdx)
                 if (external) a_.mov(x86::r11, x86::ptr(x86::rbx, int32_t(held.ref.index * sizeof(T*))));
-                for (int v = 0; v < kVectors<T>; ++v)
+                for (int v = 0; v < kVectors; ++v)
                     a_.vmovups(group_register(held.group, v), external ? x86::ptr(x86::r11, x86::r14, 0, v * kVectorBytes, kVectorBytes)
                                                                       : chunk_slot(held.ref.index, v));
             }
             a_.jmp(done);
         });
         if (out.place == Place::external)
-            for (int v = 0; v < kVectors<T>; ++v) store(out, v, group_register(group, v));
+            for (int v = 0; v < kVectors; ++v) store(out, v, group_register(group, v));
         for (int g = 0; g < kGroups; ++g)
             if (g != group && group_of(out) == g) held_[g].used = false;
         held_[group] = Held{true, out.place != Place::external, out, i, ++clock_};
@@ -622,7 +675,7 @@ public:
             x86::Assembler a(&code);
             std::vector<int> all(16);
             for (int r = 0; r < 16; ++r) all[r] = r;
-            math::Writer writer(a, all, [](uint32_t) { return x86::ptr(x86::r13, 0, kVectorBytes); });
+            math::Writer writer(a, all, [](uint32_t) { return x86::ptr(x86::r13, 0, kVectorBytes); }, kWide);
             function(writer.load(x86::ptr(x86::rsi, 0, kVectorBytes)));
             most = std::max(most, writer.peak());
         };
@@ -639,7 +692,7 @@ public:
         a_.mov(x86::rsi, Imm(reinterpret_cast<uint64_t>(site)));
         a_.mov(x86::rdx, x86::r14);
         a_.mov(x86::rcx, x86::r15);
-        a_.mov(x86::rax, Imm(reinterpret_cast<uint64_t>(&run_site<T>)));
+        a_.mov(x86::rax, Imm(reinterpret_cast<uint64_t>(&run_site<T, kLanes>)));
         a_.call(x86::rax);
     }
 
@@ -656,7 +709,7 @@ private:
     void spill(int g, std::size_t after) {
         Held& h = held_[g];
         if (!h.used || !h.dirty || last_read_[h.writer] <= after) return;
-        for (int v = 0; v < kVectors<T>; ++v) a_.vmovups(chunk_slot(h.ref.index, v), group_register(g, v));
+        for (int v = 0; v < kVectors; ++v) a_.vmovups(chunk_slot(h.ref.index, v), group_register(g, v));
         h.dirty = false;
     }
 
@@ -693,12 +746,63 @@ bool tape_jit_available() {
 #endif
 }
 
-template <class T>
-std::unique_ptr<CompiledTape<T>> CompiledTape<T>::compile(const Tape& tape, std::span<const uint8_t> numbers) {
-    if (!tape_jit_available()) return nullptr;
+bool tape_jit_avx512_available() {
+#if defined(__x86_64__) && defined(__GNUC__)
+    static const bool available = tape_jit_available() && __builtin_cpu_supports("avx512f");
+    return available;
+#else
+    return false;
+#endif
+}
+
+namespace {
+
+/// AMD family 0x19 with AVX-512 is Zen 4 (Zen 3 has none), which runs a 512-bit operation as
+/// two 256-bit halves.
+bool splits_512_bit_operations() {
+#if defined(__x86_64__) && defined(__GNUC__)
+    unsigned eax = 0, ebx = 0, ecx = 0, edx = 0;
+    if (!__get_cpuid(0, &eax, &ebx, &ecx, &edx)) return false;
+    const bool amd = ebx == 0x68747541 && edx == 0x69746e65 && ecx == 0x444d4163;   // "AuthenticAMD"
+    if (!amd || !__get_cpuid(1, &eax, &ebx, &ecx, &edx)) return false;
+    const unsigned family = ((eax >> 8) & 0xf) + ((eax >> 20) & 0xff);
+    return family == 0x19;
+#else
+    return false;
+#endif
+}
+
+std::atomic<JitWidth>& chosen_width() {
+    static std::atomic<JitWidth> width{tape_jit_avx512_available() && !splits_512_bit_operations() ? JitWidth::avx512
+                                                                                                   : JitWidth::avx2};
+    return width;
+}
+
+}  // namespace
+
+JitWidth tape_jit_width() { return chosen_width().load(std::memory_order_relaxed); }
+
+void use_tape_jit_width(JitWidth width) {
+    chosen_width().store(width == JitWidth::avx512 && !tape_jit_avx512_available() ? JitWidth::avx2 : width,
+                         std::memory_order_relaxed);
+}
+
+
+namespace {
+
+/// The tape's machine code at one width (CompiledTape::compile), or nullptr.
+template <class T, bool kWide>
+std::unique_ptr<typename CompiledTape<T>::Compiled> compiled_code(const Tape& tape, std::span<const uint8_t> numbers) {
+    using Compiled = typename CompiledTape<T>::Compiled;
+    using Site = typename CompiledTape<T>::Site;
+    using Emit = Emitter<T, kWide>;
+    constexpr int kChunkLanes = Emit::kLanes;
     auto compiled = std::make_unique<Compiled>();
     Compiled& c = *compiled;
     c.slot_count = tape.slot_count;
+    c.chunk_lanes = kChunkLanes;
+    c.vector_bytes = Emit::kVectorBytes;
+    c.width = kWide ? JitWidth::avx512 : JitWidth::avx2;
 
     // Which slots the caller sees: arguments, inputs, constants, outputs and the zero slot.
     std::vector<char> external(tape.slot_count, 0);
@@ -820,7 +924,7 @@ std::unique_ptr<CompiledTape<T>> CompiledTape<T>::compile(const Tape& tape, std:
         }
     }
     std::vector<std::function<void()>> cold_paths;
-    Emitter<T> e(a, last_read, cold_paths);
+    Emit e(a, last_read, cold_paths);
     // Constants of the inline functions (tape_jit_math.hpp): pool entries after the others.
     std::map<uint32_t, uint32_t> math_constants;
     const std::function<x86::Mem(uint32_t)> pool_constant = [&](uint32_t bits) {
@@ -831,7 +935,7 @@ std::unique_ptr<CompiledTape<T>> CompiledTape<T>::compile(const Tape& tape, std:
             if constexpr (sizeof(T) == 4) std::memcpy(&value, &bits, 4);
             c.fixed_constants.push_back(value);
         }
-        return Emitter<T>::pool_entry(it->second);
+        return Emit::pool_entry(it->second);
     };
     // Sites are addressed by the code, so their vector must not move.
     c.sites.reserve(tape.code.size());
@@ -862,7 +966,7 @@ std::unique_ptr<CompiledTape<T>> CompiledTape<T>::compile(const Tape& tape, std:
                 ++i;
                 continue;
             }
-            if (void* function = float_vector_function(tape.code[i].op)) {
+            if (void* function = float_vector_function(tape.code[i].op, kWide)) {
                 e.call_vector_function(refs[i].data(), ir::op_arity(tape.code[i].op), function);
                 continue;
             }
@@ -883,6 +987,17 @@ std::unique_ptr<CompiledTape<T>> CompiledTape<T>::compile(const Tape& tape, std:
         std::lock_guard lock(runtime_mutex());
         if (runtime().add(&c.function, &code) != kErrorOk) return nullptr;
     }
+    return compiled;
+}
+
+}  // namespace
+
+template <class T>
+std::unique_ptr<CompiledTape<T>> CompiledTape<T>::compile(const Tape& tape, std::span<const uint8_t> numbers) {
+    if (!tape_jit_available()) return nullptr;
+    std::unique_ptr<Compiled> compiled = tape_jit_width() == JitWidth::avx512 ? compiled_code<T, true>(tape, numbers)
+                                                                             : compiled_code<T, false>(tape, numbers);
+    if (!compiled) return nullptr;
     std::unique_ptr<CompiledTape> result(new CompiledTape());
     result->compiled_ = std::move(compiled);
     return result;
@@ -893,7 +1008,17 @@ CompiledTape<T>::~CompiledTape() = default;
 
 template <class T>
 bool CompiledTape<T>::reads_code_constants(int lanes) const {
-    return compiled_->sites_read_uniforms || lanes % kChunkLanes != 0;
+    return compiled_->sites_read_uniforms || lanes % compiled_->chunk_lanes != 0;
+}
+
+template <class T>
+int CompiledTape<T>::chunk_lanes() const {
+    return compiled_->chunk_lanes;
+}
+
+template <class T>
+JitWidth CompiledTape<T>::width() const {
+    return compiled_->width;
 }
 
 template <class T>
@@ -905,15 +1030,20 @@ template <class T>
 void CompiledTape<T>::run(const Instruction* code, std::size_t count, T* const* slots, int lanes,
                           JitScratch<T>& scratch, bool constants_changed, const RowValues<T>* row) const {
     const Compiled& c = *compiled_;
-    const std::size_t pool_size = (c.fixed_constants.size() + c.operand_constants.size()) * kVectorBytes / sizeof(T);
+    // The pool's entries start on a cache line (a 64-byte entry is one line, not two), so it
+    // has a line more than they take.
+    const std::size_t pool_size = (c.fixed_constants.size() + c.operand_constants.size()) * c.vector_bytes / sizeof(T) +
+                                  64 / sizeof(T);
     if (scratch.constants.size() != pool_size) {
-        scratch.constants.assign(pool_size, T(0));
+        scratch.constants.assign(pool_size, T(0));   // may move: every entry is written below
         constants_changed = true;
     }
-    constexpr int kPerVector = kVectorBytes / int(sizeof(T));
+    const auto cache_line_aligned = [](T* p) { return p + (64 - reinterpret_cast<std::uintptr_t>(p) % 64) % 64 / sizeof(T); };
+    T* const pool_base = cache_line_aligned(scratch.constants.data());
+    const int per_vector = c.vector_bytes / int(sizeof(T));
     if (constants_changed || scratch.constants_of != code) {
-        T* pool = scratch.constants.data();
-        const auto put = [&pool](T value) { pool = std::fill_n(pool, kPerVector, value); };
+        T* pool = pool_base;
+        const auto put = [&pool, per_vector](T value) { pool = std::fill_n(pool, per_vector, value); };
         for (std::size_t k = 0; k < kFixedCount; ++k) put(c.fixed_constants[k]);
         for (auto [instruction, operand] : c.operand_constants) {
             const T value = T(code[instruction].constant[operand & ~kNegated]);
@@ -925,7 +1055,7 @@ void CompiledTape<T>::run(const Instruction* code, std::size_t count, T* const* 
         for (const auto& [instruction, entry, planned] : c.divisor_entries) {
             const ConstantDivisor<T> now = plan_constant_divisor(T(code[instruction].constant[1]));
             scratch.divisors_fit = scratch.divisors_fit && now.kind == planned.kind;
-            std::fill_n(scratch.constants.data() + std::size_t(entry) * kPerVector, kPerVector, now.reciprocal);
+            std::fill_n(pool_base + std::size_t(entry) * per_vector, per_vector, now.reciprocal);
         }
         scratch.constants_of = code;
         scratch.uniforms_row = ~std::size_t{0};
@@ -935,7 +1065,7 @@ void CompiledTape<T>::run(const Instruction* code, std::size_t count, T* const* 
     if (row && scratch.uniforms_row != row->row) {
         for (auto [entry, uniform, negated] : c.uniform_entries) {
             const T value = row->values[uniform];
-            std::fill_n(scratch.constants.data() + std::size_t(entry) * kPerVector, kPerVector, negated ? -value : value);
+            std::fill_n(pool_base + std::size_t(entry) * per_vector, per_vector, negated ? -value : value);
         }
         scratch.uniforms_row = row->row;
     }
@@ -945,14 +1075,14 @@ void CompiledTape<T>::run(const Instruction* code, std::size_t count, T* const* 
         run_lanes<T, 0>(code, count, slots, lanes);
         return;
     }
-    const std::size_t chunks = std::size_t(lanes) / kChunkLanes;
+    const int chunk_lanes = c.chunk_lanes;
+    const std::size_t chunks = std::size_t(lanes) / chunk_lanes;
     const std::size_t needed = (chunks * c.chunk_stride + 64) / sizeof(T);
     if (scratch.slots.size() < needed) scratch.slots.assign(needed, T(0));
-    T* base = scratch.slots.data();
-    base += (64 - reinterpret_cast<std::uintptr_t>(base) % 64) % 64 / sizeof(T);   // cache-line aligned
-    const Context<T> context{slots, base, scratch.constants.data(), code, chunks * kChunkLanes * sizeof(T)};
+    const Context<T> context{slots, cache_line_aligned(scratch.slots.data()), pool_base, code,
+                             chunks * chunk_lanes * sizeof(T)};
     if (chunks > 0) c.function(&context);
-    const int done = int(chunks) * kChunkLanes;
+    const int done = int(chunks) * chunk_lanes;
     if (done == lanes) return;
     // The tail: the lane kernel on every slot from the first lane not done.
     std::vector<T*>& tail = scratch.tail_slots;

@@ -1,5 +1,5 @@
-// interp/tape_jit.hpp — a tape compiled to x86-64 AVX2 machine code, run a short chunk of
-// lanes at a time.
+// interp/tape_jit.hpp — a tape compiled to x86-64 machine code (AVX2 on ymm registers, or
+// AVX-512 on zmm), run a short chunk of lanes at a time.
 //
 // Why: the lane kernel (lane_kernel.hpp) runs one instruction over a whole tile before the
 // next, so every instruction streams its operands' 1024-lane arrays through L2, and shorter
@@ -16,7 +16,16 @@
 // (-ffp-contract=off keeps the C++ side unfused); float32 transcendentals call the SLEEF
 // functions the lane kernel calls; every other operation calls the lane kernel itself for the
 // chunk. Lanes are independent, so running the tape chunk by chunk instead of
-// instruction by instruction changes no value.
+// instruction by instruction changes no value, and AVX2 and AVX-512 code give the same
+// values (the same IEEE operations on more lanes at once) where both call the same
+// transcendentals: fortu's own exp and ln are the same on every width, SLEEF's need not be
+// (tape_jit_width() says which runs).
+//
+// Why two widths: on a core whose 512-bit units are as wide as their operations (Intel's
+// AVX-512 cores), a zmm fused multiply-add does twice an ymm one's lanes in the same time
+// (a chain of four: 42 against 17-19 G lanes a second, one core of the 2026-12-02 Xeon);
+// AMD's Zen 4 splits each into two 256-bit halves, and there AVX-512 code was no faster on
+// bear.vm and slower on prospero.vm (docs/performance.md), so it keeps AVX2.
 #pragma once
 
 #include "interp/tape.hpp"
@@ -50,13 +59,25 @@ struct RowValues {
     std::size_t row = 0;   ///< which row: the values are put in only when it changes
 };
 
+/// The vectors compiled tapes are written for.
+enum class JitWidth : uint8_t { avx2, avx512 };
+
+/// The width CompiledTape::compile writes: AVX-512 where the CPU has it and runs 512-bit
+/// operations at full width (not AMD's Zen 4, which splits them), else AVX2; or as set by
+/// use_tape_jit_width.
+JitWidth tape_jit_width();
+/// Sets the width (--isa, tests), AVX-512 only where the CPU has it (else AVX2).
+void use_tape_jit_width(JitWidth width);
+/// Whether this CPU can run AVX-512 compiled tapes (AVX-512F).
+bool tape_jit_avx512_available();
+/// "AVX2" or "AVX-512".
+inline const char* jit_width_name(JitWidth width) { return width == JitWidth::avx512 ? "AVX-512" : "AVX2"; }
+
 template <class T>
 class CompiledTape {
 public:
-    /// Lanes per chunk: four AVX2 vectors.
-    static constexpr int kChunkLanes = 4 * 32 / static_cast<int>(sizeof(T));
-
-    /// The tape compiled for this CPU; nullptr where there is no AVX2 or code cannot be made.
+    /// The tape compiled for this CPU at tape_jit_width(); nullptr where there is no AVX2 or
+    /// code cannot be made.
     /// `numbers[i]` (when given): bit k set if operand k of instruction i is never NaN
     /// (number_operands.hpp), so MIN, MAX and SELECT need not handle a NaN there.
     static std::unique_ptr<CompiledTape> compile(const Tape& tape, std::span<const uint8_t> numbers = {});
@@ -81,6 +102,10 @@ public:
 
     /// Divisions by a constant the code multiplies by the reciprocal instead (constant_divisor.hpp).
     std::size_t divisions_by_reciprocal() const;
+
+    /// Lanes per chunk: four vectors (32 float32 lanes in AVX2, 64 in AVX-512).
+    int chunk_lanes() const;
+    JitWidth width() const;
 
     struct Site;        ///< an instruction the compiled code hands back to the lane kernel
     struct Compiled;    ///< the machine code and what it reads

@@ -1,4 +1,4 @@
-// interp/tape_jit_math.cpp — Code's operations as AVX2 instructions (tape_jit_math.hpp).
+// interp/tape_jit_math.cpp — Code's operations as AVX2 or AVX-512 instructions (tape_jit_math.hpp).
 #include "interp/tape_jit_math.hpp"
 
 #include <algorithm>
@@ -13,6 +13,17 @@ using namespace asmjit;
 
 thread_local Writer* current_writer = nullptr;
 
+/// The AVX-512F form of a bitwise operation: vandps and vorps on zmm need AVX512DQ, the
+/// integer forms (the same bits) only AVX512F.
+InstId bitwise(InstId id) {
+    if (!Writer::current().wide()) return id;
+    switch (id) {
+    case x86::Inst::kIdVandps: case x86::Inst::kIdVpand: return x86::Inst::kIdVpandd;
+    case x86::Inst::kIdVorps: return x86::Inst::kIdVpord;
+    default: return id;
+    }
+}
+
 /// a op b into a new register. Only the last source of a VEX instruction may be memory: a
 /// constant first operand goes second where the operation commutes, else into a register.
 Value binary(InstId id, const Value& a, const Value& b, bool commutative) {
@@ -21,15 +32,17 @@ Value binary(InstId id, const Value& a, const Value& b, bool commutative) {
     const Value x = w.in_register(swap ? b : a);
     const Value& y = swap ? a : b;
     Value d = w.allocate();
-    w.assembler().emit(id, d.ymm(), x.ymm(), y.operand());
+    w.assembler().emit(bitwise(id), d.vec(), x.vec(), y.operand());
     return d;
 }
 
+/// A comparison's mask: a vector of all-ones lanes (AVX2), or a k register (AVX-512).
 Value compare(const Value& a, const Value& b, int predicate) {
     Writer& w = Writer::current();
     const Value x = w.in_register(a);
-    Value d = w.allocate();
-    w.assembler().emit(x86::Inst::kIdVcmpps, d.ymm(), x.ymm(), b.operand(), Imm(predicate));
+    Value d = w.allocate_mask();
+    if (w.wide()) w.assembler().emit(x86::Inst::kIdVcmpps, d.k(), x.vec(), b.operand(), Imm(predicate));
+    else w.assembler().emit(x86::Inst::kIdVcmpps, d.vec(), x.vec(), b.operand(), Imm(predicate));
     return d;
 }
 
@@ -37,7 +50,7 @@ Value shift(InstId id, const Value& a, int bits) {
     Writer& w = Writer::current();
     const Value x = w.in_register(a);
     Value d = w.allocate();
-    w.assembler().emit(id, d.ymm(), x.ymm(), Imm(bits));
+    w.assembler().emit(id, d.vec(), x.vec(), Imm(bits));
     return d;
 }
 
@@ -51,12 +64,12 @@ Value fused(bool negated, const Value& a, const Value& b, const Value& c) {
     const Value& y = swap ? a : b;
     Value d = w.allocate();
     if (y.in_register()) {
-        w.assembler().vmovaps(d.ymm(), x.ymm());
-        w.assembler().emit(negated ? x86::Inst::kIdVfnmadd213ps : x86::Inst::kIdVfmadd213ps, d.ymm(), y.ymm(), c.operand());
+        w.assembler().vmovaps(d.vec(), x.vec());
+        w.assembler().emit(negated ? x86::Inst::kIdVfnmadd213ps : x86::Inst::kIdVfmadd213ps, d.vec(), y.vec(), c.operand());
     } else {
-        if (c.in_register()) w.assembler().vmovaps(d.ymm(), c.ymm());
-        else w.assembler().emit(x86::Inst::kIdVmovups, d.ymm(), c.operand());
-        w.assembler().emit(negated ? x86::Inst::kIdVfnmadd231ps : x86::Inst::kIdVfmadd231ps, d.ymm(), x.ymm(), y.operand());
+        if (c.in_register()) w.assembler().vmovaps(d.vec(), c.vec());
+        else w.assembler().emit(x86::Inst::kIdVmovups, d.vec(), c.operand());
+        w.assembler().emit(negated ? x86::Inst::kIdVfnmadd231ps : x86::Inst::kIdVfmadd231ps, d.vec(), x.vec(), y.operand());
     }
     return d;
 }
@@ -81,17 +94,24 @@ Value::~Value() {
     if (reg_ >= 0) Writer::current().release(reg_);
 }
 
+x86::Vec Value::vec() const { return Writer::current().vec(reg_); }
+
 Operand Value::operand() const {
-    if (in_register()) return ymm();
+    if (is_mask_register()) return k();
+    if (in_register()) return vec();
     return Writer::current().pool_entry_(constant_bits_);
 }
 
 // ---- Writer ----
 
 Writer::Writer(x86::Assembler& assembler, std::vector<int> registers,
-               std::function<x86::Mem(std::uint32_t)> pool_entry)
-    : a_(assembler), free_(std::move(registers)), pool_entry_(std::move(pool_entry)), previous_(current_writer) {
+               std::function<x86::Mem(std::uint32_t)> pool_entry, bool wide)
+    : a_(assembler), free_(std::move(registers)), wide_(wide), pool_entry_(std::move(pool_entry)),
+      previous_(current_writer) {
+    if (wide_)
+        for (int k = 7; k >= 1; --k) free_masks_.push_back(Value::kMaskBase + k);   // k0 means "no mask"
     for (int reg : free_) owned_[reg] = true;
+    for (int reg : free_masks_) owned_[reg] = true;
     current_writer = this;
 }
 
@@ -102,11 +122,35 @@ Writer& Writer::current() {
     return *current_writer;
 }
 
+x86::Vec Writer::vec(int reg) const {
+    if (wide_) return x86::zmm(reg);
+    return x86::ymm(reg);
+}
+
 void Writer::release(int reg) {
-    if (--uses_[reg] == 0 && owned_[reg]) {
-        free_.push_back(reg);
-        --held_;
+    if (--uses_[reg] != 0 || !owned_[reg]) return;
+    if (reg >= Value::kMaskBase) {
+        free_masks_.push_back(reg);
+        return;
     }
+    free_.push_back(reg);
+    --held_;
+}
+
+Value Writer::allocate_mask() {
+    if (!wide_) return allocate();
+    if (free_masks_.empty()) throw std::logic_error("tape_jit_math: out of mask registers");
+    Value v;
+    v.reg_ = free_masks_.back();
+    free_masks_.pop_back();
+    retain(v.reg_);
+    return v;
+}
+
+void Writer::jump_if_any(const Value& any, const Label& target) {
+    if (wide_) a_.kortestw(any.k(), any.k());
+    else a_.vtestps(any.vec(), any.vec());
+    a_.jnz(target);
 }
 
 Value Writer::allocate() {
@@ -123,7 +167,7 @@ Value Writer::allocate() {
 
 Value Writer::load(const x86::Mem& memory) {
     Value d = allocate();
-    a_.vmovups(d.ymm(), memory);
+    a_.vmovups(d.vec(), memory);
     return d;
 }
 
@@ -162,7 +206,7 @@ Value Code::abs(const F& a) { return binary(x86::Inst::kIdVandps, a, seti(0x7fff
 Value Code::to_float(const I& a) {
     Writer& w = Writer::current();
     Value d = w.allocate();
-    w.assembler().emit(x86::Inst::kIdVcvtdq2ps, d.ymm(), a.operand());
+    w.assembler().emit(x86::Inst::kIdVcvtdq2ps, d.vec(), a.operand());
     return d;
 }
 Value Code::addi(const I& a, const I& b) { return binary(x86::Inst::kIdVpaddd, a, b, true); }
@@ -177,12 +221,23 @@ Value Code::greater(const F& a, const F& b) { return compare(a, b, 0x1E); }     
 Value Code::equal(const F& a, const F& b) { return compare(a, b, 0x00); }              // EQ_OQ
 Value Code::not_less_equal(const F& a, const F& b) { return compare(a, b, 0x16); }     // NLE_UQ
 Value Code::not_greater_equal(const F& a, const F& b) { return compare(a, b, 0x19); }  // NGE_UQ
-Value Code::or_mask(const M& a, const M& b) { return binary(x86::Inst::kIdVorps, a, b, true); }
+Value Code::or_mask(const M& a, const M& b) {
+    Writer& w = Writer::current();
+    if (!w.wide()) return binary(x86::Inst::kIdVorps, a, b, true);
+    Value d = w.allocate_mask();
+    w.assembler().korw(d.k(), a.k(), b.k());
+    return d;
+}
 Value Code::select(const M& m, const F& if_true, const F& if_false) {
     Writer& w = Writer::current();
-    const Value mask = w.in_register(m), otherwise = w.in_register(if_false);
+    const Value otherwise = w.in_register(if_false);
     Value d = w.allocate();
-    w.assembler().emit(x86::Inst::kIdVblendvps, d.ymm(), otherwise.ymm(), if_true.operand(), mask.ymm());
+    if (w.wide()) {
+        w.assembler().k(m.k()).emit(x86::Inst::kIdVblendmps, d.vec(), otherwise.vec(), if_true.operand());
+        return d;
+    }
+    const Value mask = w.in_register(m);
+    w.assembler().emit(x86::Inst::kIdVblendvps, d.vec(), otherwise.vec(), if_true.operand(), mask.vec());
     return d;
 }
 

@@ -1,6 +1,7 @@
 // interp/tape_jit_math.hpp — the vector functions of vector_math_functions.hpp (float32 exp
 // and ln) written into a compiled tape's code: `Code`, the W its templates take, makes each
-// of their operations an AVX2 instruction instead of running it.
+// of their operations an AVX2 instruction (ymm) or an AVX-512 one (zmm, comparisons into k
+// registers) instead of running it.
 //
 // Why: the same template the lane loops run, so the compiled code computes the same IEEE
 // operations in the same order and the values are bit-identical; and inline, because a call
@@ -19,8 +20,9 @@ namespace fortu::tape_jit_math {
 
 class Writer;
 
-/// A value of the code being written: a ymm register it holds (shared by copies, free again
-/// when the last copy goes), or a constant of the tape's pool (a memory operand).
+/// A value of the code being written: a vector register it holds (ymm or zmm, as the Writer
+/// writes; shared by copies, free again when the last copy goes), a comparison's mask (on
+/// AVX-512 a k register), or a constant of the tape's pool (a memory operand).
 class Value {
 public:
     Value() = default;
@@ -29,12 +31,18 @@ public:
     ~Value();
 
     bool in_register() const { return reg_ >= 0; }
-    asmjit::x86::Ymm ymm() const { return asmjit::x86::ymm(reg_); }
+    bool is_mask_register() const { return reg_ >= kMaskBase; }
+    /// The vector register: ymm or zmm by the Writer's width.
+    asmjit::x86::Vec vec() const;
+    /// The k register of an AVX-512 comparison.
+    asmjit::x86::KReg k() const { return asmjit::x86::k(reg_ - kMaskBase); }
     /// The register, or the constant's memory operand.
     asmjit::Operand operand() const;
 
 private:
     friend class Writer;
+    /// reg_ of a k register: kMaskBase + its number.
+    static constexpr int kMaskBase = 32;
     int reg_ = -1;
     std::uint32_t constant_bits_ = 0;
 };
@@ -43,16 +51,25 @@ private:
 /// templates' W is a type, so its functions find the current Writer).
 class Writer {
 public:
-    /// `registers`: the ymm registers the written code may change; `pool_entry`: the memory
-    /// operand of a pool entry holding `bits` in every lane (made on first use).
+    /// `registers`: the vector registers the written code may change; `pool_entry`: the memory
+    /// operand of a pool entry holding `bits` in every lane (made on first use); `wide`:
+    /// AVX-512 code on zmm registers (masks in k1..k7, which the code may change too), else
+    /// AVX2 on ymm.
     Writer(asmjit::x86::Assembler& assembler, std::vector<int> registers,
-           std::function<asmjit::x86::Mem(std::uint32_t bits)> pool_entry);
+           std::function<asmjit::x86::Mem(std::uint32_t bits)> pool_entry, bool wide = false);
     ~Writer();
     Writer(const Writer&) = delete;
     Writer& operator=(const Writer&) = delete;
 
     static Writer& current();
     asmjit::x86::Assembler& assembler() { return a_; }
+    bool wide() const { return wide_; }
+    /// Register `reg` at the Writer's width.
+    asmjit::x86::Vec vec(int reg) const;
+    /// A register for a comparison's result: a vector register, or on AVX-512 a k register.
+    Value allocate_mask();
+    /// Jumps to `target` if a lane of the mask `any` is set.
+    void jump_if_any(const Value& any, const asmjit::Label& target);
 
     /// A value loaded from memory into a register of its own.
     Value load(const asmjit::x86::Mem& memory);
@@ -74,8 +91,10 @@ private:
 
     asmjit::x86::Assembler& a_;
     std::vector<int> free_;
-    int uses_[16] = {};
-    bool owned_[16] = {};   ///< given to the Writer: free again when a value's copies go
+    std::vector<int> free_masks_;   ///< AVX-512: k registers, as Value::kMaskBase + number
+    int uses_[Value::kMaskBase + 8] = {};
+    bool owned_[Value::kMaskBase + 8] = {};   ///< given to the Writer: free again when a value's copies go
+    bool wide_ = false;
     int held_ = 0, peak_ = 0;
     std::function<asmjit::x86::Mem(std::uint32_t)> pool_entry_;
     Writer* previous_;

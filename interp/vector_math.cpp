@@ -121,4 +121,14 @@ void* avx2_vector_function(ir::Op op) {
 #endif
 }
 
+void* avx512_vector_function(ir::Op op) {
+#if defined(FORTU_VECTOR_MATH_AVX512)
+    const int slot = kSlotOfOp[static_cast<int>(op)];
+    return slot < 0 ? nullptr : kAvx512VectorFunctions[slot];
+#else
+    (void)op;
+    return nullptr;
+#endif
+}
+
 }  // namespace fortu::vector_math

@@ -77,4 +77,8 @@ bool run_float_sincos(const float* a, float* sin_out, float* cos_out, int lanes)
 /// build has no AVX2 kernels.
 void* avx2_vector_function(ir::Op op);
 
+/// The same for AVX-512: the function its kernel applies to each vector of 16 lanes (zmm0,
+/// zmm1, result in zmm0), for the AVX-512 compiled tapes.
+void* avx512_vector_function(ir::Op op);
+
 }  // namespace fortu::vector_math

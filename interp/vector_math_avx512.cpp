@@ -70,17 +70,28 @@ void sincos_lanes(const float* a, float* sin_out, float* cos_out, int lanes) {
                           cos_out);
 }
 
+// fortu's own functions also as one-vector functions, for the AVX-512 compiled tapes (the
+// lane loop's values bit for bit: the same code).
+#define FORTU_VECTOR_ONE_sleef(op, name)
+#define FORTU_VECTOR_ONE_fortu(op, name) \
+    __m512 op##_vector(__m512 x) { return functions::name<Avx512>(x); }
+
 #define FORTU_VECTOR_MATH_1(op, name, library, accuracy, ulp, lo, hi)                                \
     void op(const float* a, const float*, float ka, float kb, unsigned mask, float* out, int n) { \
         lanes_loop<Avx512>([](__m512 x, __m512) { return FORTU_VECTOR_CALL_##library(name, accuracy)(x); },\
                    a, nullptr, ka, kb, mask, out, n);                                                  \
-    }
+    }                                                                                                  \
+    FORTU_VECTOR_ONE_##library(op, name)
 #define FORTU_VECTOR_MATH_2(op, name, library, accuracy, ulp, lo, hi)                                \
     void op(const float* a, const float* b, float ka, float kb, unsigned mask, float* out, int n) { \
         lanes_loop<Avx512>([](__m512 x, __m512 y) { return FORTU_VECTOR_CALL_##library(name, accuracy)(x, y); },\
                    a, b, ka, kb, mask, out, n);                                                  \
     }
 #include "interp/vector_math.def"
+
+// What the AVX-512 compiled tapes call: SLEEF's function, or fortu's one-vector function above.
+#define FORTU_VECTOR_ADDRESS_sleef(op, name, accuracy) reinterpret_cast<void*>(&Sleef_##name##f16_##accuracy##avx512f)
+#define FORTU_VECTOR_ADDRESS_fortu(op, name, accuracy) reinterpret_cast<void*>(&op##_vector)
 
 }  // namespace
 
@@ -89,6 +100,12 @@ const SinCosKernel kAvx512SinCos = &sincos_lanes;
 const Kernel kAvx512Kernels[kSlotCount] = {
 #define FORTU_VECTOR_MATH_1(op, name, library, accuracy, ulp, lo, hi) &op,
 #define FORTU_VECTOR_MATH_2(op, name, library, accuracy, ulp, lo, hi) &op,
+#include "interp/vector_math.def"
+};
+
+void* const kAvx512VectorFunctions[kSlotCount] = {
+#define FORTU_VECTOR_MATH_1(op, name, library, accuracy, ulp, lo, hi) FORTU_VECTOR_ADDRESS_##library(op, name, accuracy),
+#define FORTU_VECTOR_MATH_2(op, name, library, accuracy, ulp, lo, hi) FORTU_VECTOR_ADDRESS_##library(op, name, accuracy),
 #include "interp/vector_math.def"
 };
 

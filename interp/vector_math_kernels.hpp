@@ -30,5 +30,7 @@ extern const SinCosKernel kAvx512SinCos;
 /// Each op's function on one AVX2 vector (SysV: operands in ymm0, ymm1, result in ymm0),
 /// the one kAvx2Kernels calls, for the compiled tapes.
 extern void* const kAvx2VectorFunctions[kSlotCount];
+/// The same for AVX-512 (zmm0, zmm1, result in zmm0), the one kAvx512Kernels calls.
+extern void* const kAvx512VectorFunctions[kSlotCount];
 
 }  // namespace fortu::vector_math

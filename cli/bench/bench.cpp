@@ -8,6 +8,7 @@
 #include "cli/bench/bench_performance.hpp"
 #include "cli/bench/bench_report.hpp"
 #include "cli/option_table.hpp"
+#include "cli/cli_options.hpp"
 #include "cli/commands.hpp"
 
 #include "runtime/atomic_file.hpp"
@@ -98,6 +99,7 @@ OptionTable bench_options(BenchArgs& b) {
                      throw UsageError(fmt::format("--budget: '{}' is not a positive number of operations", text));
                  b.measure.budget = v;
              });
+    add_isa_option(t);
     t.option("--threads", "N", "worker threads (default: all cores)",
              [&b](const std::string& v) { b.measure.threads = int(parse_integer("--threads", v, 0, 1024)); });
     t.option("--json", "FILE", "the results as JSON (schema fortu-bench/1)", [&b](const std::string& v) { b.json = v; });

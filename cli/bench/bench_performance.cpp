@@ -227,7 +227,7 @@ int run_performance_benchmarks(const PerformanceOptions& options) {
         "from the same folder as prospero.vm (the 3D sign rows go through the engine table, so they keep a float64 "
         "field; `fortu run --sign-only` keeps 3D signs as int8).{}\n\n",
         options.quick ? " --quick" : "", run_text(machine, options.measure.threads, clock.seconds()), load,
-        lane_loop_isa(), tape_jit_available() ? "AVX2" : "none", vector_math::isa_name(vector_math::active_isa()), vector_math::libraries_text(),
+        lane_loop_isa(), tape_jit_available() ? jit_width_name(tape_jit_width()) : "none", vector_math::isa_name(vector_math::active_isa()), vector_math::libraries_text(),
         options.measure.repeat, memory_method_text(), data,
         options.quick ? " --quick: small grids, not comparable with the targets." : "");
     md += rows_markdown(rows, options.quick);

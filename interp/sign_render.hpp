@@ -43,8 +43,8 @@ Field sign_render(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
                   SignRenderStats* stats = nullptr);
 
 /// The signs of a grid kept as one int8 per node (1, 0, -1, kNaN), 8 times less memory than
-/// a Field: how `fortu run --sign-only` keeps its signs (256³: 16 MiB, not 128 MiB, in 2 MiB
-/// huge pages where the kernel has them), expanded to float64 only when a values file is
+/// a Field: how `fortu run --sign-only` keeps its signs (256³: 16 MiB, not 128 MiB, of which
+/// only the pages the render writes are faulted in), expanded to float64 only when a values file is
 /// written. Stored bit-inverted (`codes[i] = ~sign`), so outside (−1), the background of
 /// most volumes, is a zero byte: fresh pages are outside without a pass writing them
 /// (zeroed_pages.hpp).

@@ -1,69 +1,45 @@
 // runtime/zeroed_pages.hpp — an allocator whose memory starts as zero bytes without being
-// written: fresh anonymous pages from mmap, in 2 MiB transparent huge pages where the kernel
-// has them (madvise(MADV_HUGEPAGE): a 256³ volume is then 8 page faults, not 4,096).
+// written: fresh anonymous pages from mmap, in ordinary 4 KiB pages.
 //
 // Why: a sign volume is mostly background; when its encoding makes the background a zero
 // byte, the kernel's page zeroing is its only initialisation. Writing the background over
 // 16 MiB (tanglecube.vm 256³) had cost as much as the zeroing itself, a quarter of the render;
-// pages the render never writes are never even faulted in for writing. Elements are
-// default-initialised (resize leaves them zero).
+// pages the render never writes are never even faulted in for writing.
+//
+// Why not 2 MiB huge pages: a write anywhere in one makes the kernel zero all of it, so
+// tanglecube.vm's 256³ render zeroed its whole 16 MiB (8 huge pages) where it writes 1.4 MB
+// (347 small pages). On the Zen 4 of 2026-12-01 the two were within noise; on the Intel Xeon
+// of 2026-12-02 huge pages took 2.4-4.8 ms to touch on one thread and up to 12 ms on two (a
+// probe touching 16 MiB), and the render's medians were 3.78 → 3.22 ms on one thread and
+// 2.76 → 2.21 ms on two with small pages (21 alternated runs; the two-thread maximum 11.8 →
+// 4.1 ms), its peak memory 15.4 → 9.3 MiB. Elements are default-initialised (resize leaves
+// them zero).
 #pragma once
 
 #include <sys/mman.h>
 
 #include <algorithm>
 #include <cstddef>
-#include <cstdint>
 #include <limits>
 #include <new>
 #include <utility>
 
 namespace fortu {
 
-/// Asks for transparent huge pages over the whole 2 MiB lines inside [p, p + bytes), before
-/// anything touches them: memory then faults in 2 MiB at a time. Worth it for the sign volumes
-/// (most of their pages are never touched); not for full fields, which touch every page and
-/// can wait on the kernel compacting memory for them (field.hpp).
-inline void advise_huge_pages(void* p, std::size_t bytes) {
-#ifdef MADV_HUGEPAGE
-    constexpr std::uintptr_t kLine = std::uintptr_t{2} << 20;
-    const auto start = reinterpret_cast<std::uintptr_t>(p);
-    const std::uintptr_t first = (start + kLine - 1) / kLine * kLine, end = (start + bytes) / kLine * kLine;
-    if (end > first) madvise(reinterpret_cast<void*>(first), end - first, MADV_HUGEPAGE);
-#else
-    (void)p;
-    (void)bytes;
-#endif
-}
-
 template <class T>
 struct ZeroedPageAllocator {
     using value_type = T;
-    static constexpr std::size_t kHugePage = std::size_t{2} << 20;
+    static constexpr std::size_t kPage = 4096;
 
     ZeroedPageAllocator() = default;
     template <class U>
     ZeroedPageAllocator(const ZeroedPageAllocator<U>&) noexcept {}
 
     T* allocate(std::size_t n) {
-        if (n > (std::numeric_limits<std::size_t>::max() - 2 * kHugePage) / sizeof(T)) throw std::bad_array_new_length();
-        const std::size_t bytes = mapped_bytes(n);
-        if (bytes < kHugePage) {
-            void* p = mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
-            if (p == MAP_FAILED) throw std::bad_alloc();
-            return static_cast<T*>(p);
-        }
-        // Over-map by one huge page, then unmap the ends so the block starts on a 2 MiB line.
-        const std::size_t span = bytes + kHugePage;
-        void* raw = mmap(nullptr, span, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
-        if (raw == MAP_FAILED) throw std::bad_alloc();
-        const auto start = reinterpret_cast<std::uintptr_t>(raw);
-        const std::uintptr_t aligned = (start + kHugePage - 1) / kHugePage * kHugePage;
-        if (aligned > start) munmap(raw, aligned - start);
-        const std::size_t tail = start + span - (aligned + bytes);
-        if (tail > 0) munmap(reinterpret_cast<void*>(aligned + bytes), tail);
-        advise_huge_pages(reinterpret_cast<void*>(aligned), bytes);
-        return reinterpret_cast<T*>(aligned);
+        if (n > (std::numeric_limits<std::size_t>::max() - kPage) / sizeof(T)) throw std::bad_array_new_length();
+        void* p = mmap(nullptr, mapped_bytes(n), PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+        if (p == MAP_FAILED) throw std::bad_alloc();
+        return static_cast<T*>(p);
     }
     void deallocate(T* p, std::size_t n) noexcept { munmap(p, mapped_bytes(n)); }
     template <class U>
@@ -77,11 +53,10 @@ struct ZeroedPageAllocator {
     friend bool operator==(const ZeroedPageAllocator&, const ZeroedPageAllocator&) { return true; }
 
 private:
-    /// Whole 4 KiB pages below 2 MiB, whole huge pages above.
+    /// Whole pages.
     static std::size_t mapped_bytes(std::size_t n) {
         const std::size_t bytes = std::max<std::size_t>(n * sizeof(T), 1);
-        const std::size_t unit = bytes < kHugePage ? 4096 : kHugePage;
-        return (bytes + unit - 1) / unit * unit;
+        return (bytes + kPage - 1) / kPage * kPage;
     }
 };
 

@@ -281,8 +281,8 @@ TEST_CASE("a sign volume stores ~sign: outside is a zero byte, so fresh zeroed p
     CHECK(SignVolume::code_of(0) == -1);
     CHECK(SignVolume::code_of(1) == -2);
     CHECK(SignVolume::code_of(SignVolume::kNaN) == 127);
-    // Outside everywhere over 65³ nodes (past one 4 KiB page, under one huge page) and 129³
-    // (past 2 MiB): every code is the untouched zero, and decodes to −1.
+    // Outside everywhere over 65³ nodes (past one 4 KiB page) and 129³ (past 2 MiB): every
+    // code is the untouched zero, and decodes to −1.
     test::Compiled c = test::compile_text("ARGUMENT x(-1, 1), y(-1, 1), z(-1, 1);\nRETURN -1 - x*x - y*y - z*z;\n");
     REQUIRE_MESSAGE(c.model, c.sink.render_all());
     for (int n : {65, 129}) {
@@ -296,7 +296,7 @@ TEST_CASE("a sign volume stores ~sign: outside is a zero byte, so fresh zeroed p
     }
 }
 
-TEST_CASE("a sign volume past 2 MiB (huge pages) counts its statistics as the float64 field does") {
+TEST_CASE("a sign volume past 2 MiB counts its statistics as the float64 field does") {
     // 129³ nodes: 2,146,689 signs, many blocks of the vectorised count and a tail.
     test::Compiled c = test::compile_text(
         "ARGUMENT x(-1, 1), y(-1, 1), z(-1, 1);\nRETURN SQRT(x + 0.5) * 0 + (0.5 - z) * (0.6 - x*x - y*y);\n");

@@ -170,7 +170,7 @@ void run_site(const Context<T>* context, const SiteOf<T>* site, std::size_t exte
 void* float_vector_function(ir::Op op, bool wide) {
     const vector_math::Isa isa = wide ? vector_math::Isa::avx512 : vector_math::Isa::avx2;
     if (vector_math::active_isa() != isa) return nullptr;
-    return wide ? vector_math::avx512_vector_function(op) : vector_math::avx2_vector_function(op);
+    return vector_math::one_vector_function(isa, op);
 }
 
 /// A float32 function compiled inline from vector_math_functions.hpp's template, where the
@@ -183,7 +183,7 @@ bool inline_math(E& e, std::size_t i, ir::Op op, const OperandRef* refs,
     namespace f = vector_math::functions;
     if (!vector_math::runs_fortu_function(op) || vector_math::active_isa() == vector_math::Isa::none) return false;
     // For chunks with a lane the narrow path leaves: fortu's own function at the code's width.
-    void* function = E::kWide ? vector_math::avx512_vector_function(op) : vector_math::avx2_vector_function(op);
+    void* function = vector_math::one_vector_function(E::kWide ? vector_math::Isa::avx512 : vector_math::Isa::avx2, op);
     if (!function) return false;
     // The registers each function needs, measured once.
     switch (op) {

@@ -111,24 +111,18 @@ std::string libraries_text() {
     return fortu_ops.empty() ? "SLEEF" : "SLEEF; " + fortu_ops + ": fortu";
 }
 
-void* avx2_vector_function(ir::Op op) {
-#if defined(FORTU_VECTOR_MATH_AVX2)
+void* one_vector_function(Isa isa, ir::Op op) {
     const int slot = kSlotOfOp[static_cast<int>(op)];
-    return slot < 0 ? nullptr : kAvx2VectorFunctions[slot];
-#else
-    (void)op;
-    return nullptr;
-#endif
-}
-
-void* avx512_vector_function(ir::Op op) {
+    if (slot < 0) return nullptr;
+    switch (isa) {
 #if defined(FORTU_VECTOR_MATH_AVX512)
-    const int slot = kSlotOfOp[static_cast<int>(op)];
-    return slot < 0 ? nullptr : kAvx512VectorFunctions[slot];
-#else
-    (void)op;
-    return nullptr;
+    case Isa::avx512: return kAvx512VectorFunctions[slot];
 #endif
+#if defined(FORTU_VECTOR_MATH_AVX2)
+    case Isa::avx2: return kAvx2VectorFunctions[slot];
+#endif
+    default: return nullptr;
+    }
 }
 
 }  // namespace fortu::vector_math

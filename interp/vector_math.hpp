@@ -72,13 +72,10 @@ bool run_float(ir::Op op, const float* a, const float* b, float ka, float kb, un
 /// when no vector ISA is active.
 bool run_float_sincos(const float* a, float* sin_out, float* cos_out, int lanes);
 
-/// The function run_float's AVX2 kernel applies to each vector of 8 lanes (operands in ymm0
-/// and ymm1, result in ymm0), for the compiled tapes; nullptr when `op` has none or this
-/// build has no AVX2 kernels.
-void* avx2_vector_function(ir::Op op);
-
-/// The same for AVX-512: the function its kernel applies to each vector of 16 lanes (zmm0,
-/// zmm1, result in zmm0), for the AVX-512 compiled tapes.
-void* avx512_vector_function(ir::Op op);
+/// The function run_float's kernel of `isa` applies to each vector (AVX2: 8 lanes, operands
+/// in ymm0 and ymm1, the result in ymm0; AVX-512: 16 lanes in zmm0, zmm1, zmm0), for the
+/// compiled tapes of that width; nullptr when `op` has none or this build has no kernels of
+/// that ISA.
+void* one_vector_function(Isa isa, ir::Op op);
 
 }  // namespace fortu::vector_math

@@ -295,28 +295,44 @@ TEST_CASE("fortu's ln gives IEEE's special values and is exact at 1 and right on
 }
 
 #if defined(__AVX2__)
-TEST_CASE("the compiled tapes' one-vector functions give the AVX2 lane loops' bits") {
-    if (vector_math::best_isa() < vector_math::Isa::avx2) return;
-    vector_math::use_isa(vector_math::Isa::avx2);
-    for (const VectorOp& v : vector_ops()) {
-        if (v.arity != 1) continue;
-        CAPTURE(std::string(v.name));
-        std::vector<float> a, b;
-        sweep(v, a, b);
-        a.resize(a.size() / 8 * 8);
-        const std::vector<float> lanes = run_all(v.op, a);
-        void* function = vector_math::avx2_vector_function(v.op);
-        REQUIRE(function != nullptr);
-        const auto one_vector = reinterpret_cast<__m256 (*)(__m256)>(function);
-        std::size_t differing = 0;
-        for (std::size_t i = 0; i < a.size(); i += 8) {
-            float out[8];
-            _mm256_storeu_ps(out, one_vector(_mm256_loadu_ps(a.data() + i)));
-            for (int l = 0; l < 8; ++l) differing += !same_bits(out[l], lanes[i + l]);
+namespace {
+
+/// One vector of 8 (AVX2) or 16 (AVX-512) lanes through a one-vector function.
+void call_8(void* function, const float* in, float* out) {
+    _mm256_storeu_ps(out, reinterpret_cast<__m256 (*)(__m256)>(function)(_mm256_loadu_ps(in)));
+}
+__attribute__((target("avx512f"))) void call_16(void* function, const float* in, float* out) {
+    _mm512_storeu_ps(out, reinterpret_cast<__m512 (*)(__m512)>(function)(_mm512_loadu_ps(in)));
+}
+
+}  // namespace
+
+TEST_CASE("the compiled tapes' one-vector functions give the lane loops' bits, AVX2 and AVX-512") {
+    for (vector_math::Isa isa : isas_here()) {
+        vector_math::use_isa(isa);
+        CAPTURE(std::string(vector_math::isa_name(isa)));
+        const int width = isa == vector_math::Isa::avx512 ? 16 : 8;
+        for (const VectorOp& v : vector_ops()) {
+            if (v.arity != 1) continue;
+            CAPTURE(std::string(v.name));
+            std::vector<float> a, b;
+            sweep(v, a, b);
+            a.resize(a.size() / 16 * 16);
+            const std::vector<float> lanes = run_all(v.op, a);
+            void* function = vector_math::one_vector_function(isa, v.op);
+            REQUIRE(function != nullptr);
+            std::size_t differing = 0;
+            for (std::size_t i = 0; i < a.size(); i += width) {
+                float out[16];
+                if (width == 16) call_16(function, a.data() + i, out);
+                else call_8(function, a.data() + i, out);
+                for (int l = 0; l < width; ++l) differing += !same_bits(out[l], lanes[i + l]);
+            }
+            CHECK(differing == 0);
         }
-        CHECK(differing == 0);
+        CHECK(vector_math::one_vector_function(isa, ir::Op::Add) == nullptr);
     }
-    CHECK(vector_math::avx2_vector_function(ir::Op::Add) == nullptr);
+    CHECK(vector_math::one_vector_function(vector_math::Isa::none, ir::Op::Exp) == nullptr);
     vector_math::use_isa(vector_math::Isa::avx512);
 }
 #endif

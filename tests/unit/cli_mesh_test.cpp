@@ -571,13 +571,17 @@ TEST_CASE("every 3D RANOK script, bear.vm and the FLOZ3 sphere mesh with no --do
         check_closed_solid(r);
         // The bound in cells: half a cell where the surface is smooth; the sharp edges and
         // corners the feature pass could not put back keep marching tetrahedra's cut (up to
-        // √3/2); parts thinner than a cell at 24 nodes (the Lopatka blades, bear.vm's claws)
-        // are missed, 2.6–3.8 cells of surface with no mesh; Chainik's ARCTAN(Y/X) jumps
+        // √3/2); parts thinner than a cell at 24 nodes are missed, up to 2.6 cells of surface
+        // with no mesh: the blade of ConceptLopatka (also _b and new_lopatka, the same solid),
+        // within 0.82 cells at 96 nodes, and a sheet of bear.vm a few thousandths thick (at
+        // x = −0.34, its two faces 0.0015 apart with opposite normals), thinner than a cell even
+        // at 96 nodes. (Lopatka and LopatkaNew stay within 0.45 cells at 24, 48 and 96 nodes.)
+        // Chainik's ARCTAN(Y/X) jumps
         // (faces no projection reaches) and zeros the field touches without changing sign
         // (|…| in mytest, sphere_modul) are not measured.
         const std::string name = std::filesystem::path(path).filename().string();
         const bool unmeasured = name.find("Chainik") != std::string::npos || name == "mytest.fortu" || name == "sphere_modul.fortu";
-        const bool thin = name.find("opatka") != std::string::npos || name == "bear.vm";
+        const bool thin = name.find("ConceptLopatka") != std::string::npos || name == "new_lopatka.fortu" || name == "bear.vm";
         if (!unmeasured) {
             worst = std::max(worst, std::max(r.mesh_to_surface, r.surface_to_mesh) / h);
             CHECK(r.mesh_to_surface <= kSharp * h);

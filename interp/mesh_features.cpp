@@ -57,6 +57,12 @@ constexpr double kMinProjectedArea = 1e-6;
 /// slivers of about 1e-8 cell² there, still 100 times the independent checker's 1e-10.
 constexpr double kMinChainArea = 1e-9;
 constexpr double kMinChainProjectedArea = 1e-11;
+/// A new triangle's centroid, in cells, at most this far from the surface (first order:
+/// |f| / |∇f| there): half a cell, the mesh's bound on smooth parts. Why: its vertices are on
+/// the surface, but a polygon joined over several cells (a wedge's, around an acute edge or a
+/// tip) can give triangles five cells long whose middle is a cell or more away where the
+/// surface curves (bear.vm at 128 nodes: 1.4 cells).
+constexpr double kMaxCentroidDistance = 0.5;
 /// Newton's method stops when a step is below this fraction of a cell; the point is then
 /// on the feature to round-off (quadratic convergence, one step for planes).
 constexpr double kStepTolerance = 1e-13;
@@ -1208,6 +1214,11 @@ private:
         for (const Tri& t : triangles) {
             const Vec tn = cross(sub(positions_[t[1]], positions_[t[0]]), sub(positions_[t[2]], positions_[t[0]]));
             if (!(dot(tn, normal) / 2 >= kMinChainProjectedArea * h * h)) return false;
+            Vec centroid{};
+            for (int a = 0; a < 3; ++a) centroid[a] = (positions_[t[0]][a] + positions_[t[1]][a] + positions_[t[2]][a]) / 3;
+            field_.at(centroid);
+            const double slope = norm(field_.gradient(0));
+            if (!(std::fabs(field_.value(0)) <= kMaxCentroidDistance * h * slope)) return false;
         }
         const Vec helper = std::fabs(normal[0]) < 0.6 ? Vec{1, 0, 0} : Vec{0, 1, 0};
         Vec e1 = cross(normal, helper);
@@ -1840,7 +1851,7 @@ private:
     static constexpr int kMaxWedgeRadius = 3;
     static constexpr int kMaxWedgePolygon = 256;
 
-    FeatureField field_;
+    mutable FeatureField field_;   ///< evaluation scratch: const checks evaluate too
     Mesh& mesh_;
     double min_[3], step_[3];
     int cells_[3];

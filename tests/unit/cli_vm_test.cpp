@@ -77,3 +77,17 @@ TEST_CASE("--precision and --sign-only usage errors") {
     CHECK(point.status == 2);
     CHECK(point.out == "fortu: error: 'fortu eval': the sign engine evaluates whole grids only (use classic, voxel or voxel-f32)\n");
 }
+
+TEST_CASE("--isa picks the compiled tapes' and transcendentals' instruction set, for run and bench") {
+    CommandResult bad = run_fortu("run " + vm("hi.vm") + " --isa avx3");
+    CHECK(bad.status == 2);
+    CHECK(bad.out == "fortu: error: --isa: 'avx3' is not avx2 or avx512\n");
+    CHECK(run_fortu("bench " + vm("hi.vm") + " --isa sse --sizes 8").out == "fortu: error: --isa: 'sse' is not avx2 or avx512\n");
+    CommandResult narrow = run_fortu("run " + vm("hi.vm") + " --precision float32 --size 16 --isa avx2 --stats", ".", true);
+    REQUIRE_MESSAGE(narrow.status == 0, narrow.out);
+    if (narrow.out.find("compiled tapes none") == std::string::npos)   // a CPU with AVX2
+        CHECK(narrow.out.find("compiled tapes AVX2, float32 transcendentals AVX2") != std::string::npos);
+    CommandResult wide = run_fortu("run " + vm("hi.vm") + " --precision float32 --size 16 --isa avx512 --stats", ".", true);
+    if (wide.status == 0) CHECK(wide.out.find("compiled tapes AVX-512, float32 transcendentals AVX-512") != std::string::npos);
+    else CHECK(wide.out == "fortu: error: --isa avx512: this CPU (or this build) has no AVX-512\n");
+}

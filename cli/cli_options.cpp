@@ -170,8 +170,9 @@ void add_engine_options(OptionTable& t, CliOptions& o, EngineChoice& choice, boo
     t.flag("--no-hoist", "the voxel engine computes X-only and Y-only sub-expressions\n"
                          "at every point instead of once per column/row (to compare)",
            [&o] { o.engine_settings.hoist = false; });
-    t.flag("--no-jit", "the voxel engine runs its tape through its lane loops instead\n"
-                       "of machine code compiled for it (the same values; to compare)",
+    t.flag("--no-jit", "the voxel engine and the shaded view's leaves run their tapes\n"
+                       "through the lane loops instead of machine code compiled for\n"
+                       "them (the same values; to compare)",
            [&o] { o.engine_settings.compile = false; });
     add_isa_option(t);
     if (grids) add_fv_options(t, o);

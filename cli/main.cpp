@@ -214,7 +214,9 @@ int run_shaded_view(const Model& model, const CliOptions& o) {
     EvalOptions eval;
     eval.threads = o.threads;
     Stopwatch clock;
-    const SurfaceImage image = render_shaded_view(model.graph, model.root, box, o.view, size[0], size[1], eval);
+    ShadedViewStats view_stats;
+    const SurfaceImage image = render_shaded_view(model.graph, model.root, box, o.view, size[0], size[1], eval,
+                                                  o.engine_settings.compile, &view_stats);
     const double seconds = clock.seconds();
     try {
         write_surface_picture(image, o.output);
@@ -226,9 +228,11 @@ int run_shaded_view(const Model& model, const CliOptions& o) {
     if (o.stats)
         report_stream(o) << fmt::format(
             "model: {}\nshaded view: {}x{}, azimuth {}, elevation {}, x [{}, {}], y [{}, {}], "
-            "z [{}, {}]\ntime: render {:.3f} s\npeak memory: {}\n",
+            "z [{}, {}]\nleaves: {}, {} of them on compiled tapes ({} tapes compiled)\ntime: render {:.3f} s\n"
+            "peak memory: {}\n",
             shown_script_name(o.positional[0]), size[0], size[1], o.view.azimuth, o.view.elevation, box[0].min,
-            box[0].max, box[1].min, box[1].max, box[2].min, box[2].max, seconds, format_bytes(peak_rss_bytes()));
+            box[0].max, box[1].min, box[1].max, box[2].min, box[2].max, format_count(view_stats.leaves),
+            format_count(view_stats.compiled_leaves), view_stats.tapes_compiled, seconds, format_bytes(peak_rss_bytes()));
     return 0;
 }
 

@@ -8,6 +8,7 @@
 #include "interp/interval.hpp"
 #include "interp/lane_kernel.hpp"
 #include "interp/tape.hpp"
+#include "interp/written_r_operations.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -45,7 +46,7 @@ struct BrickEvaluator::Impl {
     BrickStats stats;
 
     Impl(const ir::Graph& graph, ir::NodeId root, const Grid& g)
-        : grid(g), tape(compile_tape(graph, TapeSpec{{root}, {}, {}, /*reuse_slots=*/false})) {}
+        : grid(g), tape(pruning_tape(graph, root)) {}
 
     double at(int axis, int i) const { return axis == 0 ? grid.x_at(i) : axis == 1 ? grid.y_at(i) : grid.z_at(i); }
 
@@ -143,7 +144,7 @@ BrickStats BrickEvaluator::evaluate(const BrickBox& box, std::vector<double>& va
 }
 
 std::size_t brick_evaluator_bytes(const ir::Graph& graph, ir::NodeId root) {
-    const Tape tape = compile_tape(graph, TapeSpec{{root}, {}, {}, false});
+    const Tape tape = pruning_tape(graph, root);
     // Lanes, ranges, and shortened tapes (at most the whole tape per depth, ~6 depths).
     return std::size_t(tape.slot_count) * (kLanes * sizeof(double) + sizeof(Interval) + 64) +
            8 * tape.code.size() * sizeof(Instruction);

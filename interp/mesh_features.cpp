@@ -4,6 +4,7 @@
 
 #include "interp/lane_kernel.hpp"
 #include "interp/tape.hpp"
+#include "interp/written_r_operations.hpp"
 
 #include <algorithm>
 #include <array>
@@ -69,32 +70,6 @@ constexpr double kStepTolerance = 1e-13;
 /// Operands whose gradients make less than ~11° with the span of those already chosen are
 /// not independent enough to solve for (a tangency, not an edge).
 constexpr double kIndependence = 0.2;
-
-/// Whether `id` is R0 written out as a formula, a + b ∓ sqrt(a² + b²) (RANOK scripts often spell
-/// their R-operations so); a and b are set to its operands.
-bool written_r0(const ir::Graph& graph, ir::NodeId id, ir::NodeId& a, ir::NodeId& b) {
-    const ir::Node& n = graph.node(id);
-    if (n.op != ir::Op::Sub && n.op != ir::Op::Add) return false;
-    auto square_of = [&](ir::NodeId m) {
-        const ir::Node& q = graph.node(m);
-        if (q.op == ir::Op::Square) return q.args[0];
-        if (q.op == ir::Op::Mul && q.args[0] == q.args[1]) return q.args[0];
-        return ir::kNoNode;
-    };
-    for (int order = 0; order < (n.op == ir::Op::Add ? 2 : 1); ++order) {
-        const ir::Node& sum = graph.node(n.args[order]);
-        const ir::Node& root = graph.node(n.args[1 - order]);
-        if (sum.op != ir::Op::Add || root.op != ir::Op::Sqrt) continue;
-        const ir::Node& squares = graph.node(root.args[0]);
-        if (squares.op != ir::Op::Add) continue;
-        const ir::NodeId p = square_of(squares.args[0]), q = square_of(squares.args[1]);
-        if ((p == sum.args[0] && q == sum.args[1]) || (p == sum.args[1] && q == sum.args[0])) {
-            a = sum.args[0], b = sum.args[1];
-            return true;
-        }
-    }
-    return false;
-}
 
 /// The model and every operand of its R-operations (and MIN/MAX, the CSG operations of `.vm`
 /// files), with exact gradients, from one run of one tape.

@@ -8,6 +8,7 @@
 #include "interp/lane_kernel.hpp"
 #include "interp/parallel.hpp"
 #include "interp/tape.hpp"
+#include "interp/written_r_operations.hpp"
 
 #include <algorithm>
 #include <array>
@@ -512,7 +513,7 @@ Mesh extract_mesh(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
         std::shared_ptr<const Tape> tape;
     };
     std::vector<Item> items{{Mesher::Box{{0, 0, 0}, size},
-                             std::make_shared<const Tape>(compile_tape(graph, TapeSpec{{root}, {}, {}, false}))}};
+                             std::make_shared<const Tape>(pruning_tape(graph, root))}};
     // Breadth-first until there are enough boxes to share, then depth-first per worker.
     const std::size_t enough = std::size_t(32) * threads;
     while (items.size() < enough && !items.empty() && items.front().box.size > 1) {

@@ -4,12 +4,14 @@
 #include "interp/shaded_view.hpp"
 
 #include "interp/box_simplify.hpp"
+#include "interp/compiled_tape_cache.hpp"
 #include "interp/float_gradient.hpp"
 #include "interp/interval.hpp"
 #include "interp/ir/dual.hpp"
 #include "interp/lane_kernel.hpp"
 #include "interp/parallel.hpp"
 #include "interp/tape.hpp"
+#include "interp/written_r_operations.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -165,12 +167,17 @@ struct Scratch {
     FloatGradientScratch float_gradient;
     std::vector<float> points;           ///< the hits' coordinates, values and gradients in float32
     std::vector<Hit> dual_hits;          ///< the hits whose float32 gradient was not finite
+    CompiledTapeCache<float> compiled;   ///< the leaf tapes seen more than once, as machine code
+    const CompiledTape<float>* leaf_code = nullptr;   ///< leaf_tape's, or null: the lane loops
+    bool leaf_code_fresh = false;        ///< leaf_code has not run with these constants yet
+    JitScratch<float> jit;
+    ShadedViewStats stats;               ///< leaves and compiled_leaves
 };
 
 class ViewRenderer {
 public:
-    ViewRenderer(const Camera& camera, const std::array<AxisRange, 3>& box, SurfaceImage& image)
-        : cam_(camera), box_(box), image_(image) {
+    ViewRenderer(const Camera& camera, const std::array<AxisRange, 3>& box, SurfaceImage& image, bool compile)
+        : cam_(camera), box_(box), image_(image), compile_(compile) {
         for (int a = 0; a < 3; ++a) {
             // Samples this close outside the box still count as in it (rounding of the frame).
             const double pad = 1e-9 * (box[a].max - box[a].min);
@@ -298,6 +305,8 @@ private:
         if (s.leaf_tape_of != generation || generation == 0) {
             reallocate_slots(ssa, s.leaf_tape, s.slot_scratch);
             s.leaf_tape_of = generation;
+            s.leaf_code = compile_ ? s.compiled.find(s.leaf_tape) : nullptr;
+            s.leaf_code_fresh = true;
         }
         if (s.normal_tape_of != normal.number || normal.number == 0) {
             finish(s);   // the hits waiting for normals belong to the tape about to be replaced
@@ -318,8 +327,13 @@ private:
         if (open.empty()) return;
         const int depth = r.k1 - r.k0 + 1;
         const int n = static_cast<int>(open.size()) * depth;
+        // Compiled code runs whole chunks; the lanes past n repeat the last sample, so a tail
+        // does not go through the lane loops instruction by instruction (their results are
+        // not read).
+        const int chunk = s.leaf_code ? s.leaf_code->chunk_lanes() : 1;
+        const int lanes = (n + chunk - 1) / chunk * chunk;
         Lanes<float>& f = s.float_lanes;
-        f.prepare(tape.slot_count, n);
+        f.prepare(tape.slot_count, lanes);
         // Lane order: pixel-major, depth within a pixel.
         for (auto [slot, axis] : tape.arguments) {
             float* out = f.slots[slot];
@@ -329,9 +343,17 @@ private:
                 for (int k = r.k0; k <= r.k1; ++k)
                     *out++ = static_cast<float>(across + (cam_.d0 + k * cam_.step) * cam_.into[axis]);
             }
+            std::fill(out, f.slots[slot] + lanes, out[-1]);
         }
-        for (auto [slot, value] : tape.constants) std::fill_n(f.slots[slot], n, static_cast<float>(value));
-        run_lanes<float, 0>(tape.code.data(), tape.code.size(), f.slots.data(), n);
+        for (auto [slot, value] : tape.constants) std::fill_n(f.slots[slot], lanes, static_cast<float>(value));
+        ++s.stats.leaves;
+        if (s.leaf_code) {
+            ++s.stats.compiled_leaves;
+            s.leaf_code->run(tape.code.data(), tape.code.size(), f.slots.data(), lanes, s.jit, s.leaf_code_fresh);
+            s.leaf_code_fresh = false;
+        } else {
+            run_lanes<float, 0>(tape.code.data(), tape.code.size(), f.slots.data(), n);
+        }
         const float* value = f.slots[tape.root_slot];
         // Per pixel: the first sample ≥ 0 in the box is its hit.
         for (std::size_t i = 0; i < open.size(); ++i) {
@@ -442,6 +464,7 @@ private:
     const Camera& cam_;
     std::array<AxisRange, 3> box_;
     SurfaceImage& image_;
+    bool compile_;   ///< leaf tapes seen more than once run as machine code
     double lo_[3], hi_[3];
 };
 
@@ -466,7 +489,8 @@ std::optional<ViewDirection> parse_view_direction(const std::string& text) {
 }
 
 SurfaceImage render_shaded_view(const ir::Graph& graph, ir::NodeId root, const std::array<AxisRange, 3>& box,
-                                const ViewDirection& view, int width, int height, const EvalOptions& options) {
+                                const ViewDirection& view, int width, int height, const EvalOptions& options,
+                                bool compile, ShadedViewStats* stats) {
     SurfaceImage image;
     image.width = width;
     image.height = height;
@@ -475,9 +499,9 @@ SurfaceImage render_shaded_view(const ir::Graph& graph, ir::NodeId root, const s
     image.depth.assign(pixels, 1.0f);
     image.normal.assign(pixels, {0.0f, 0.0f, 1.0f});
     const Camera camera = make_camera(box, view, width, height);
-    ViewRenderer renderer(camera, box, image);
+    ViewRenderer renderer(camera, box, image, compile);
     renderer.hit_k_.assign(pixels, camera.depth_samples);
-    const Tape tape = compile_tape(graph, TapeSpec{{root}, {}, {}, /*reuse_slots=*/false});
+    const Tape tape = pruning_tape(graph, root);
     const int tiles_x = (width + kTilePixels - 1) / kTilePixels, tiles_y = (height + kTilePixels - 1) / kTilePixels;
     std::vector<Scratch> scratch(resolve_threads(options.threads));
     EvalOptions quiet = options;
@@ -490,6 +514,14 @@ SurfaceImage render_shaded_view(const ir::Graph& graph, ir::NodeId root, const s
         renderer.finish(scratch[worker]);
         return std::size_t{0};
     });
+    if (stats) {
+        *stats = {};
+        for (const Scratch& worker : scratch) {
+            stats->leaves += worker.stats.leaves;
+            stats->compiled_leaves += worker.stats.compiled_leaves;
+            stats->tapes_compiled += worker.compiled.compiled();
+        }
+    }
     return image;
 }
 

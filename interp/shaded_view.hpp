@@ -23,6 +23,7 @@
 #include "runtime/surface_picture.hpp"
 
 #include <array>
+#include <cstddef>
 #include <optional>
 #include <string>
 
@@ -38,14 +39,23 @@ struct ViewDirection {
     int up = 1;   ///< the axis drawn upwards: 0 X, 1 Y, 2 Z
 };
 
+/// What one shaded view evaluated (for --stats and tests).
+struct ShadedViewStats {
+    std::size_t leaves = 0;            ///< leaf regions whose samples ran
+    std::size_t compiled_leaves = 0;   ///< of them, those that ran on compiled tapes
+    std::size_t tapes_compiled = 0;    ///< leaf tapes compiled (by all workers)
+};
+
 /// `top`, `front`, `side`, `iso` (azimuth 45, elevation 35.26) or `AZ,EL` in degrees;
 /// nullopt when malformed.
 std::optional<ViewDirection> parse_view_direction(const std::string& text);
 
 /// Renders `root` (of X, Y, Z) clipped to `box` as seen from `view`, orthographically, on a
 /// width × height picture with square pixels that fits the box's outline. Depth is sampled
-/// at one pixel's spacing.
+/// at one pixel's spacing. With `compile` (not --no-jit) the leaves' tapes that recur run as
+/// machine code (compiled_tape_cache.hpp): the same picture, bit for bit.
 SurfaceImage render_shaded_view(const ir::Graph& graph, ir::NodeId root, const std::array<AxisRange, 3>& box,
-                                const ViewDirection& view, int width, int height, const EvalOptions& options = {});
+                                const ViewDirection& view, int width, int height, const EvalOptions& options = {},
+                                bool compile = true, ShadedViewStats* stats = nullptr);
 
 }  // namespace fortu

@@ -13,6 +13,7 @@
 #include "interp/quadrant_intervals.hpp"
 #include "interp/stored_sign.hpp"
 #include "interp/tape.hpp"
+#include "interp/written_r_operations.hpp"
 #include "runtime/spread_thread.hpp"
 
 #include <algorithm>
@@ -522,7 +523,7 @@ void render_signs(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
         double sign;
     };
     std::vector<Item> items{{Box{{0, 0, 0}, {grid.cols() - 1, grid.rows() - 1, grid.slices() - 1}},
-                             std::make_shared<const Tape>(compile_tape(graph, TapeSpec{{root}, {}, {}, /*reuse_slots=*/false}))}};
+                             std::make_shared<const Tape>(pruning_tape(graph, root))}};
     std::vector<Decided> decided;
     const std::size_t enough = std::size_t(16) * threads;
     // 2D: the root's own intervals, then each level's quadrants in one walk of their box's

@@ -2,6 +2,8 @@
 // nodes made so far (Graph::make shares and folds them, as for FORTU scripts).
 #include "interp/vm_import.hpp"
 
+#include "interp/written_r_operations.hpp"
+
 #include <charconv>
 #include <cmath>
 #include <fmt/format.h>
@@ -46,24 +48,6 @@ std::vector<Token> split_line(std::string_view line) {
         tokens.push_back({line.substr(start, i - start), static_cast<int>(start) + 1});
     }
     return tokens;
-}
-
-/// If x ∓ r is the R0 formula a + b ∓ sqrt(a² + b²) (x = a + b, r = sqrt(a² + b²)), the
-/// R-operation a &0 b (a |0 b) — the same operations in the same order, so the same value
-/// bit for bit — which the sign renderer can prune (sign(a & b) = sign(min(a, b))).
-ir::NodeId as_r0(ir::Graph& g, ir::Op op, ir::NodeId x, ir::NodeId r) {
-    const ir::Node& sum = g.node(x);
-    const ir::Node& root = g.node(r);
-    if (sum.op != ir::Op::Add || root.op != ir::Op::Sqrt) return ir::kNoNode;
-    const ir::Node& squares = g.node(root.args[0]);
-    if (squares.op != ir::Op::Add) return ir::kNoNode;
-    const ir::Node& p = g.node(squares.args[0]);
-    const ir::Node& q = g.node(squares.args[1]);
-    if (p.op != ir::Op::Square || q.op != ir::Op::Square) return ir::kNoNode;
-    const ir::NodeId a = sum.args[0], b = sum.args[1];
-    const bool same = (p.args[0] == a && q.args[0] == b) || (p.args[0] == b && q.args[0] == a);
-    if (!same) return ir::kNoNode;
-    return g.binary(op == ir::Op::Sub ? ir::Op::RAnd : ir::Op::ROr, a, b, 0.0);
 }
 
 }  // namespace
@@ -154,12 +138,13 @@ std::optional<Model> import_vm(std::shared_ptr<const SourceFile> source, Diagnos
                 args[k] = it->second;
             }
             if (!ok) continue;
-            if (found->op == ir::Op::Sub) id = as_r0(model.graph, ir::Op::Sub, args[0], args[1]);
-            if (found->op == ir::Op::Add) {
-                id = as_r0(model.graph, ir::Op::Add, args[0], args[1]);
-                if (id == ir::kNoNode) id = as_r0(model.graph, ir::Op::Add, args[1], args[0]);
-            }
-            if (id == ir::kNoNode) id = model.graph.make(found->op, std::span<const ir::NodeId>(args, arity));
+            // R0 written out (a + b ∓ sqrt(a² + b²)) becomes the R-operation, the same IEEE
+            // operations in the same order, which the pruned renderers can prune.
+            ir::NodeId a, b;
+            if (arity == 2 && written_r0(model.graph, found->op, args[0], args[1], a, b))
+                id = model.graph.binary(found->op == ir::Op::Sub ? ir::Op::RAnd : ir::Op::ROr, a, b, 0.0);
+            else
+                id = model.graph.make(found->op, std::span<const ir::NodeId>(args, arity));
         }
         names.emplace(name.text, id);
         last = id;

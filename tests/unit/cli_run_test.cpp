@@ -5,6 +5,7 @@
 #include "test_support.hpp"
 
 #include "interp/limits.hpp"
+#include "interp/tape_jit.hpp"
 #include "runtime/image_table.hpp"
 #include "runtime/output_formats.hpp"
 #include "runtime/picture.hpp"
@@ -13,6 +14,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 
@@ -78,6 +80,31 @@ TEST_CASE("--stats counts the hoisted operations only for an engine that hoists"
         const std::string out = run_fortu("run " + m + " --size 9 --stats" + other, ".", true).out;
         CHECK(out.find("voxel: 4\n") != std::string::npos);
     }
+}
+
+TEST_CASE("--stats of a shaded view counts its leaves and those on compiled tapes; --no-jit runs none so") {
+    TempDir t;
+    // A gyroid-like shell through sin and cos: many leaves along its surface, on few tapes.
+    const std::string m = quote(t.write("shell.fortu", "ARGUMENT X, Y, Z;\n"
+                                                       "RETURN 0.3 - ABS(SIN(4*X)*COS(4*Y) + SIN(4*Y)*COS(4*Z) + SIN(4*Z)*COS(4*X));\n"));
+    auto counts = [&](const std::string& extra) {
+        const std::string out =
+            run_fortu("run " + m + " --size 96 --view front --threads 1 -o " + quote((t.path / "v.png").string()) + " --stats" + extra,
+                      ".", true)
+                .out;
+        const std::size_t at = out.find("\nleaves: ");
+        REQUIRE(at != std::string::npos);
+        CHECK(out.find("\ntime: render ", at) != std::string::npos);
+        std::string line = out.substr(at + 1, out.find('\n', at + 1) - at - 1);
+        std::erase(line, ',');   // thousands separators: "leaves: 1,234 1,100 of them ..."
+        long leaves = 0, compiled = 0;
+        REQUIRE(std::sscanf(line.c_str(), "leaves: %ld %ld of them on compiled tapes", &leaves, &compiled) == 2);
+        return std::pair{leaves, compiled};
+    };
+    const auto [leaves, compiled] = counts("");
+    CHECK(leaves > 100);
+    if (tape_jit_available()) CHECK(compiled * 2 > leaves);
+    CHECK(counts(" --no-jit") == std::pair{leaves, 0L});
 }
 
 TEST_CASE("the option table: --opt=value, each command's --help, --version") {

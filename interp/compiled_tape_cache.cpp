@@ -88,6 +88,5 @@ const CompiledTape<T>* CompiledTapeCache<T>::find(const Tape& tape) {
 }
 
 template class CompiledTapeCache<float>;
-template class CompiledTapeCache<double>;
 
 }  // namespace fortu

@@ -61,6 +61,5 @@ uint64_t tape_content_hash(const Tape& tape);
 bool same_tape_content(const Tape& a, const Tape& b);
 
 extern template class CompiledTapeCache<float>;
-extern template class CompiledTapeCache<double>;
 
 }  // namespace fortu

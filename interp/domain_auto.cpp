@@ -86,11 +86,10 @@ std::optional<std::array<AxisRange, 3>> search(const Tape& tape, int axes, doubl
         return SideBound{0.0, true};
     };
     auto at_face = [&](double bound) { return bound <= -half || bound >= half; };
-    std::array<std::array<SideBound, 2>, 3> bounds;
+    std::array<SideBound, 6> bounds;   // [2 * axis + side]
     for (int a = 0; a < axes; ++a)
         for (int side = 0; side < 2; ++side) {
-            bounds[a][side] = side_bound(a, side, kQuickCells);
-            const SideBound& b = bounds[a][side];
+            const SideBound& b = bounds[2 * a + side] = side_bound(a, side, kQuickCells);
             if (b.empty) {
                 box[0] = AxisRange{1, -1};
                 return box;
@@ -99,10 +98,11 @@ std::optional<std::array<AxisRange, 3>> search(const Tape& tape, int axes, doubl
         }
     for (int a = 0; a < axes; ++a)
         for (int side = 0; side < 2; ++side) {
-            if (!bounds[a][side].settled) bounds[a][side] = side_bound(a, side, kMaxCells);
-            if (at_face(bounds[a][side].bound)) return std::nullopt;
-            if (side == 0) box[a].min = bounds[a][side].bound;
-            else box[a].max = bounds[a][side].bound;
+            SideBound& b = bounds[2 * a + side];
+            if (!b.settled) b = side_bound(a, side, kMaxCells);
+            if (at_face(b.bound)) return std::nullopt;
+            if (side == 0) box[a].min = b.bound;
+            else box[a].max = b.bound;
         }
     return box;
 }

@@ -142,7 +142,7 @@ std::optional<Model> import_vm(std::shared_ptr<const SourceFile> source, Diagnos
             // operations in the same order, which the pruned renderers can prune.
             ir::NodeId a, b;
             if (arity == 2 && written_r0(model.graph, found->op, args[0], args[1], a, b))
-                id = model.graph.binary(found->op == ir::Op::Sub ? ir::Op::RAnd : ir::Op::ROr, a, b, 0.0);
+                id = r0_operation(model.graph, found->op, a, b);
             else
                 id = model.graph.make(found->op, std::span<const ir::NodeId>(args, arity));
         }

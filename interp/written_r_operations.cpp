@@ -2,6 +2,7 @@
 // rebuilds what it changes.
 #include "interp/written_r_operations.hpp"
 
+#include <algorithm>
 #include <vector>
 
 namespace fortu {
@@ -32,14 +33,16 @@ bool written_r0(const ir::Graph& graph, ir::Op op, ir::NodeId x, ir::NodeId y, i
     return false;
 }
 
-ir::NodeId with_written_r0_as_operations(ir::Graph& graph, ir::NodeId root) {
-    const std::vector<ir::NodeId> nodes = graph.reachable(root);
+namespace {
+
+/// with_written_r0_as_operations over `nodes`, graph.reachable(root).
+ir::NodeId rewrite(ir::Graph& graph, const std::vector<ir::NodeId>& nodes, ir::NodeId root) {
     std::vector<ir::NodeId> now(graph.size(), ir::kNoNode);   // by old id: its node in the result
     for (ir::NodeId id : nodes) {
         const ir::Node n = graph.node(id);   // a copy: make() may grow the node table
         ir::NodeId a, b;
         if (written_r0(graph, id, a, b)) {
-            now[id] = graph.binary(n.op == ir::Op::Sub ? ir::Op::RAnd : ir::Op::ROr, now[a], now[b], 0.0);
+            now[id] = r0_operation(graph, n.op, now[a], now[b]);
             continue;
         }
         const int arity = ir::op_arity(n.op);
@@ -54,17 +57,22 @@ ir::NodeId with_written_r0_as_operations(ir::Graph& graph, ir::NodeId root) {
     return now[root];
 }
 
+}  // namespace
+
+ir::NodeId with_written_r0_as_operations(ir::Graph& graph, ir::NodeId root) {
+    return rewrite(graph, graph.reachable(root), root);
+}
+
 Tape pruning_tape(const ir::Graph& graph, ir::NodeId root) {
-    const TapeSpec ssa{{root}, {}, {}, /*reuse_slots=*/false};
-    bool any = false;
-    for (ir::NodeId id : graph.reachable(root)) {
+    const std::vector<ir::NodeId> nodes = graph.reachable(root);
+    const bool any = std::any_of(nodes.begin(), nodes.end(), [&](ir::NodeId id) {
         ir::NodeId a, b;
-        if ((any = written_r0(graph, id, a, b))) break;
-    }
-    if (!any) return compile_tape(graph, ssa);
+        return written_r0(graph, id, a, b);
+    });
+    auto ssa = [](ir::NodeId r) { return TapeSpec{{r}, {}, {}, /*reuse_slots=*/false}; };
+    if (!any) return compile_tape(graph, ssa(root));
     ir::Graph rewritten = graph;
-    const ir::NodeId r = with_written_r0_as_operations(rewritten, root);
-    return compile_tape(rewritten, TapeSpec{{r}, {}, {}, /*reuse_slots=*/false});
+    return compile_tape(rewritten, ssa(rewrite(rewritten, nodes, root)));
 }
 
 }  // namespace fortu

@@ -27,6 +27,12 @@ inline bool written_r0(const ir::Graph& graph, ir::NodeId id, ir::NodeId& a, ir:
     return written_r0(graph, n.op, n.args[0], n.args[1], a, b);
 }
 
+/// The R-operation node (alpha 0) that op(x, y), a written R0 of operands `a` and `b` (as
+/// written_r0 found), computes: RAnd for Sub, ROr for Add.
+inline ir::NodeId r0_operation(ir::Graph& graph, ir::Op op, ir::NodeId a, ir::NodeId b) {
+    return graph.binary(op == ir::Op::Sub ? ir::Op::RAnd : ir::Op::ROr, a, b, 0.0);
+}
+
 /// `root` with every written R0 it reaches made an RAnd / ROr node (alpha 0), the nodes added
 /// to `graph`; `root` itself where there is none. Computes the same values bit for bit.
 ir::NodeId with_written_r0_as_operations(ir::Graph& graph, ir::NodeId root);

@@ -490,7 +490,8 @@ void render_signs(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
     // A Field's background, one sequential pass (page faults: ~3 ms for 1024²), is written on
     // its own thread while the first levels of the tree only decide boxes; their fills wait
     // for it. A SignVolume's codes start as outside in the fresh pages' zero bytes, so it is
-    // only mapped, here. A cancelled render reads NaN everywhere, so no unreached node passes
+    // only mapped, here; in 2D, where the render writes most of its pages, they are faulted in
+    // at once (zeroed_pages.hpp), in 3D only those written. A cancelled render reads NaN everywhere, so no unreached node passes
     // for outside.
     std::exception_ptr allocation_failure;
     std::optional<SpreadThread> allocation;   // joined on any exit, so an exception cannot leave it running
@@ -504,6 +505,7 @@ void render_signs(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
         });
     } else {
         signs.resize(grid.points());
+        if (grid.slices() == 1) populate_for_writing(signs.data(), signs.size() * sizeof(Value));
     }
     Renderer<Signs> renderer(grid, signs, grid.slices() > 1 ? kLeafExtent3d : 16);
     const int threads = resolve_threads(options.threads);

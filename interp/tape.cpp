@@ -147,6 +147,9 @@ Tape compile_tape(const ir::Graph& graph, const TapeSpec& spec) {
         graph, spec.reuse_slots ? locality_order(graph, spec.outputs, stop) : graph.reachable(spec.outputs, &stop),
         stop);
     tape.node_count = order.size();
+    // At most one instruction a node, reserved: grown by doubling, prospero.vm's 6,361 took
+    // twice their 356 KB in fresh pages and copies (sign image 1024²: 0.6 → 0.45 ms to compile).
+    tape.code.reserve(order.size());
     auto computed = [&](ir::NodeId id) { return computed_here(graph, stop, id); };
 
     // Last use of each node, as a position in `order` (outputs live to the end).

@@ -108,6 +108,11 @@ Value stored_sign(double sign) {
 /// (tanglecube.vm 256³: a quarter of the evaluation's instructions, in rows of 4–16 bytes).
 constexpr double kBackgroundSign = -1.0;
 
+/// A 2D sign image (int8) has its pages faulted in before the render up to 2048²: rows of at
+/// most 2 KiB, two or more to a page, so the render writes most pages.
+constexpr std::size_t kPopulateSignImageUpTo = std::size_t(4) << 20;
+constexpr std::size_t kPopulateSignRowUpTo = 2048;
+
 template <class Signs>
 class Renderer {
 public:
@@ -490,9 +495,10 @@ void render_signs(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
     // A Field's background, one sequential pass (page faults: ~3 ms for 1024²), is written on
     // its own thread while the first levels of the tree only decide boxes; their fills wait
     // for it. A SignVolume's codes start as outside in the fresh pages' zero bytes, so it is
-    // only mapped, here; in 2D, where the render writes most of its pages, they are faulted in
-    // at once (zeroed_pages.hpp), in 3D only those written. A cancelled render reads NaN everywhere, so no unreached node passes
-    // for outside.
+    // only mapped, here. A 2D image of narrow rows has its pages faulted in at once
+    // (zeroed_pages.hpp); a 3D volume's or a larger image's fault in as they are written,
+    // since many are not.
+    // A cancelled render reads NaN everywhere, so no unreached node passes for outside.
     std::exception_ptr allocation_failure;
     std::optional<SpreadThread> allocation;   // joined on any exit, so an exception cannot leave it running
     if constexpr (std::is_same_v<Value, double>) {
@@ -505,7 +511,9 @@ void render_signs(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
         });
     } else {
         signs.resize(grid.points());
-        if (grid.slices() == 1) populate_for_writing(signs.data(), signs.size() * sizeof(Value));
+        const std::size_t bytes = signs.size() * sizeof(Value);
+        const bool narrow_rows = std::size_t(grid.cols()) * sizeof(Value) <= kPopulateSignRowUpTo;
+        if (grid.slices() == 1 && narrow_rows && bytes <= kPopulateSignImageUpTo) populate_for_writing(signs.data(), bytes);
     }
     Renderer<Signs> renderer(grid, signs, grid.slices() > 1 ? kLeafExtent3d : 16);
     const int threads = resolve_threads(options.threads);

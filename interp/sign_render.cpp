@@ -497,8 +497,8 @@ void render_signs(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
     // for it. A SignVolume's codes start as outside in the fresh pages' zero bytes, so it is
     // only mapped, here. A 2D image of narrow rows has its pages faulted in at once
     // (zeroed_pages.hpp); a 3D volume's or a larger image's fault in as they are written,
-    // since many are not.
-    // A cancelled render reads NaN everywhere, so no unreached node passes for outside.
+    // since many are not. A cancelled render reads NaN everywhere, so no unreached node
+    // passes for outside.
     std::exception_ptr allocation_failure;
     std::optional<SpreadThread> allocation;   // joined on any exit, so an exception cannot leave it running
     if constexpr (std::is_same_v<Value, double>) {
@@ -513,7 +513,8 @@ void render_signs(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
         signs.resize(grid.points());
         const std::size_t bytes = signs.size() * sizeof(Value);
         const bool narrow_rows = std::size_t(grid.cols()) * sizeof(Value) <= kPopulateSignRowUpTo;
-        if (grid.slices() == 1 && narrow_rows && bytes <= kPopulateSignImageUpTo) populate_for_writing(signs.data(), bytes);
+        if (grid.slices() == 1 && narrow_rows && bytes <= kPopulateSignImageUpTo)
+            populate_for_writing(signs.data(), bytes);
     }
     Renderer<Signs> renderer(grid, signs, grid.slices() > 1 ? kLeafExtent3d : 16);
     const int threads = resolve_threads(options.threads);

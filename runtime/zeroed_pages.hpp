@@ -29,9 +29,10 @@ namespace fortu {
 /// Faults in the pages of [p, p + bytes) (p page-aligned, as ZeroedPageAllocator gives it)
 /// for writing, in one call, still zero. Why: where a render will write most of them (a 2D
 /// sign image: four 1024-byte rows to a page), the kernel maps them in one batch (1 MiB:
-/// 0.09 ms on the Intel Xeon, model 167, of 2026-12-02) instead of trapping once a page (0.19-0.35 ms);
-/// prospero.vm's 1024² sign image 7.13 → 6.94 ms. Best effort: false where the kernel has no
-/// MADV_POPULATE_WRITE (before Linux 5.14), whose pages then fault in as they are written.
+/// 0.09 ms on the Intel Xeon, model 167, of 2026-12-02) instead of trapping once a page
+/// (0.19-0.35 ms); prospero.vm's 1024² sign image 7.13 → 6.94 ms. Best effort: false where
+/// the kernel has no MADV_POPULATE_WRITE (before Linux 5.14), whose pages then fault in as
+/// they are written.
 inline bool populate_for_writing(void* p, std::size_t bytes) {
 #ifdef MADV_POPULATE_WRITE
     return bytes == 0 || madvise(p, bytes, MADV_POPULATE_WRITE) == 0;

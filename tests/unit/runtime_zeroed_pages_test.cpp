@@ -26,16 +26,16 @@ std::size_t resident_pages(const void* p, std::size_t bytes) {
 }  // namespace
 
 TEST_CASE("zeroed pages: fresh, untouched, then populated for writing, still zero") {
-    constexpr std::size_t kBytes = std::size_t(1) << 20;
+    constexpr std::size_t kBytes = std::size_t(1) << 20, kPage = ZeroedPageAllocator<int8_t>::kPage;
     std::vector<int8_t, ZeroedPageAllocator<int8_t>> codes;
     codes.resize(kBytes);
-    REQUIRE(reinterpret_cast<std::uintptr_t>(codes.data()) % 4096 == 0);
+    REQUIRE(reinterpret_cast<std::uintptr_t>(codes.data()) % kPage == 0);
     CHECK(resident_pages(codes.data(), kBytes) == 0);   // resize writes nothing
     if (!populate_for_writing(codes.data(), kBytes)) {
         MESSAGE("this kernel has no MADV_POPULATE_WRITE: nothing to check");
         return;
     }
-    CHECK(resident_pages(codes.data(), kBytes) == kBytes / 4096);
+    CHECK(resident_pages(codes.data(), kBytes) == kBytes / kPage);
     CHECK(std::all_of(codes.begin(), codes.end(), [](int8_t c) { return c == 0; }));
     codes[kBytes - 1] = 5;
     CHECK(codes[kBytes - 1] == 5);

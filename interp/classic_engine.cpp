@@ -72,7 +72,7 @@ Field ClassicEngine::evaluate_grid(const ir::Graph& graph, ir::NodeId root, cons
                                    const EvalOptions& options, const NodeValues& reuse) const {
     if (!reuse.empty())
         throw std::invalid_argument("known and kept node values are the voxel engine's (the classic engine saves nothing)");
-    Field field = Field::filled(grid, std::nan(""));
+    Field field = Field::filled(grid, std::nan(""), options.threads);
     const std::size_t rows_total = static_cast<std::size_t>(grid.rows()) * grid.slices();
     parallel_for(rows_total, options, [&](std::size_t line, int) {
         const int row = static_cast<int>(line % grid.rows());

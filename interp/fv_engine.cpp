@@ -152,7 +152,7 @@ public:
 
     /// The values every node of `slot`'s M-images give back (its local function at the node).
     Field values(uint32_t slot) const {
-        Field field = Field::filled(grid_, kNaN);
+        Field field = Field::filled(grid_, kNaN, threads_);
         parallel_for(lines_, threads_, nullptr, [&](std::size_t line, int) {
             recover_line(slot, line, field.values.data() + line * grid_.cols());
         });

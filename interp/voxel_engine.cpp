@@ -422,7 +422,7 @@ std::unique_ptr<Engine> VoxelEngine::tuned(const EngineSettings& settings) const
 
 Field VoxelEngine::evaluate_grid(const ir::Graph& graph, ir::NodeId root, const Grid& grid,
                                  const EvalOptions& options, const NodeValues& reuse) const {
-    Field field = Field::filled(grid, std::nan(""));
+    Field field = Field::filled(grid, std::nan(""), options.threads);
     if (options_.precision == Precision::Float32) evaluate<float>(graph, root, field, options, options_, reuse);
     else evaluate<double>(graph, root, field, options, options_, reuse);
     return field;

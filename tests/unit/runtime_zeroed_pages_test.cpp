@@ -1,5 +1,7 @@
 // tests/unit/runtime_zeroed_pages_test.cpp — ZeroedPageAllocator's memory starts as zero
-// bytes, and populate_for_writing makes every page resident without changing a byte.
+// bytes, populate_for_writing makes every page resident without changing a byte, and a
+// field's pages are faulted in by its threads before it is filled.
+#include "runtime/field.hpp"
 #include "runtime/zeroed_pages.hpp"
 
 #include <doctest/doctest.h>
@@ -45,4 +47,45 @@ TEST_CASE("zeroed pages: populating nothing succeeds") {
     std::vector<int8_t, ZeroedPageAllocator<int8_t>> codes;
     codes.resize(1);
     CHECK(populate_for_writing(codes.data(), 0));
+}
+
+TEST_CASE("fields: the whole pages of a range populated by two threads, the partial ones at its ends left") {
+    constexpr std::size_t kPage = ZeroedPageAllocator<int8_t>::kPage, kPages = 768;   // 3 MiB
+    std::vector<int8_t, ZeroedPageAllocator<int8_t>> codes;
+    codes.resize(kPages * kPage);
+    int8_t* start = codes.data() + 100;
+    const std::size_t bytes = (kPages - 1) * kPage;   // ends 100 bytes into the last page
+    Field::populate_pages(start, bytes, 2);
+    if (resident_pages(codes.data(), kPages * kPage) == 0) {
+        MESSAGE("this kernel has no MADV_POPULATE_WRITE: nothing to check");
+        return;
+    }
+    CHECK(resident_pages(codes.data(), kPage) == 0);                      // the first, partial page
+    CHECK(resident_pages(codes.data() + kPage, (kPages - 2) * kPage) == kPages - 2);
+    CHECK(resident_pages(codes.data() + (kPages - 1) * kPage, kPage) == 0);  // the last, partial page
+    CHECK(std::all_of(codes.begin(), codes.end(), [](int8_t c) { return c == 0; }));
+}
+
+TEST_CASE("fields: below a mebibyte nothing is populated") {
+    constexpr std::size_t kPage = ZeroedPageAllocator<int8_t>::kPage;
+    std::vector<int8_t, ZeroedPageAllocator<int8_t>> codes;
+    codes.resize(Field::kPopulateFrom - kPage);
+    Field::populate_pages(codes.data(), codes.size(), 2);
+    CHECK(resident_pages(codes.data(), codes.size()) == 0);
+}
+
+TEST_CASE("fields: filled on one, two or all threads, every value the fill") {
+    Grid grid;
+    grid.dims = 3;
+    grid.x.nodes = 65, grid.y.nodes = 64, grid.z.nodes = 33;   // 1.05 MiB of values: populated
+    for (int threads : {1, 2, 0}) {
+        CAPTURE(threads);
+        const Field field = Field::filled(grid, -2.5, threads);
+        REQUIRE(field.values.size() == std::size_t(65) * 64 * 33);
+        CHECK(std::all_of(field.values.begin(), field.values.end(), [](double v) { return v == -2.5; }));
+    }
+    grid.z.nodes = 1;
+    grid.dims = 2;
+    const Field small = Field::filled(grid, 7.0, 2);
+    CHECK(small.values == std::vector<double>(std::size_t(65) * 64, 7.0));
 }

@@ -4,12 +4,10 @@
 #pragma once
 
 #include "runtime/grid.hpp"
-#include "runtime/parallel.hpp"
 #include "runtime/zeroed_pages.hpp"
 
 #include <cmath>
 #include <cstddef>
-#include <cstdint>
 #include <vector>
 
 namespace fortu {
@@ -28,26 +26,9 @@ struct Field {
     static Field filled(const Grid& grid, double fill, int threads = 1) {
         Field field{grid, {}};
         field.values.reserve(grid.points());
-        populate_pages(field.values.data(), grid.points() * sizeof(double), threads);
+        populate_whole_pages(field.values.data(), grid.points() * sizeof(double), threads);
         field.values.assign(grid.points(), fill);
         return field;
-    }
-
-    /// Below this a field's pages fault in as the fill writes them: too few to share.
-    static constexpr std::size_t kPopulateFrom = std::size_t(1) << 20;
-
-    /// The whole pages of [p, p + bytes) faulted in for writing by `threads` threads.
-    static void populate_pages(void* p, std::size_t bytes, int threads) {
-        constexpr std::uintptr_t kPage = ZeroedPageAllocator<char>::kPage;
-        if (bytes < kPopulateFrom) return;
-        const std::uintptr_t first = (reinterpret_cast<std::uintptr_t>(p) + kPage - 1) / kPage * kPage;
-        const std::uintptr_t end = (reinterpret_cast<std::uintptr_t>(p) + bytes) / kPage * kPage;
-        const std::size_t pages = (end - first) / kPage;
-        const std::size_t shares = static_cast<std::size_t>(worker_count(pages, threads));
-        parallel_for(shares, threads, nullptr, [&](std::size_t i, int) {
-            const std::size_t from = pages * i / shares, to = pages * (i + 1) / shares;
-            populate_for_writing(reinterpret_cast<void*>(first + from * kPage), (to - from) * kPage);
-        });
     }
 
     std::size_t invalid_count() const {

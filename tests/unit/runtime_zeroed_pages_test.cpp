@@ -1,6 +1,7 @@
 // tests/unit/runtime_zeroed_pages_test.cpp — ZeroedPageAllocator's memory starts as zero
-// bytes, populate_for_writing makes every page resident without changing a byte, and a
-// field's pages are faulted in by its threads before it is filled.
+// bytes, populate_for_writing makes every page resident without changing a byte (and
+// populate_whole_pages the whole pages of any range, on threads), and a field filled on
+// threads holds its fill.
 #include "runtime/field.hpp"
 #include "runtime/zeroed_pages.hpp"
 
@@ -49,7 +50,7 @@ TEST_CASE("zeroed pages: populating nothing succeeds") {
     CHECK(populate_for_writing(codes.data(), 0));
 }
 
-TEST_CASE("fields: the whole pages of a range populated by two threads, the partial ones at its ends left") {
+TEST_CASE("zeroed pages: the whole pages of a range populated by two threads, the partial ones at its ends left") {
     constexpr std::size_t kPage = ZeroedPageAllocator<int8_t>::kPage, kPages = 768;   // 3 MiB
     std::vector<int8_t, ZeroedPageAllocator<int8_t>> codes;
     codes.resize(kPages * kPage);
@@ -61,18 +62,18 @@ TEST_CASE("fields: the whole pages of a range populated by two threads, the part
         MESSAGE("this kernel has no MADV_POPULATE_WRITE: nothing to check");
         return;
     }
-    Field::populate_pages(start, bytes, 2);
+    populate_whole_pages(start, bytes, 2);
     CHECK(resident_pages(codes.data(), kPage) == 0);                      // the first, partial page
     CHECK(resident_pages(codes.data() + kPage, (kPages - 2) * kPage) == kPages - 2);
     CHECK(resident_pages(codes.data() + (kPages - 1) * kPage, kPage) == 0);  // the last, partial page
     CHECK(std::all_of(codes.begin(), codes.end(), [](int8_t c) { return c == 0; }));
 }
 
-TEST_CASE("fields: below a mebibyte nothing is populated") {
+TEST_CASE("zeroed pages: below a mebibyte nothing is populated") {
     constexpr std::size_t kPage = ZeroedPageAllocator<int8_t>::kPage;
     std::vector<int8_t, ZeroedPageAllocator<int8_t>> codes;
-    codes.resize(Field::kPopulateFrom - kPage);
-    Field::populate_pages(codes.data(), codes.size(), 2);
+    codes.resize(kPopulateWholePagesFrom - kPage);
+    populate_whole_pages(codes.data(), codes.size(), 2);
     CHECK(resident_pages(codes.data(), codes.size()) == 0);
 }
 

@@ -141,8 +141,8 @@ void use_isa_named(const std::string& name) {
 
 void add_isa_option(OptionTable& t) {
     t.option("--isa", "avx2|avx512", "the widest vector instructions used (default: AVX-512 where\n"
-                                     "the CPU runs it at full width, else AVX2; float32 sin, cos\n"
-                                     "and the like may differ in the last bit between the two)",
+                                     "the CPU has it, else AVX2; float32 sin, cos and the like\n"
+                                     "may differ in the last bit between the two)",
              [](const std::string& v) { use_isa_named(v); });
 }
 

@@ -24,8 +24,10 @@
 // Why two widths: on a core whose 512-bit units are as wide as their operations (Intel's
 // AVX-512 cores), a zmm fused multiply-add does twice an ymm one's lanes in the same time
 // (a chain of four: 42 against 17-19 G lanes a second, one core of the 2026-12-02 Xeon);
-// AMD's Zen 4 splits each into two 256-bit halves, and there AVX-512 code was no faster on
-// bear.vm and slower on prospero.vm (docs/performance.md), so it keeps AVX2.
+// AMD's Zen 4 splits each into two 256-bit halves, yet there too the AVX-512 code, four zmm
+// vectors a chunk with seven results held in registers, runs bear.vm's float32 field about
+// a tenth faster and prospero.vm's no slower (docs/performance.md): half the instructions
+// for the same lanes.
 #pragma once
 
 #include "interp/tape.hpp"
@@ -39,12 +41,13 @@
 namespace fortu {
 
 /// One worker's memory for running a CompiledTape: the chunk's internal slots, the constant
-/// operands converted to T, and slot pointers for the tail that is not a whole chunk.
+/// operands converted to T, and the external slots of the tail that is not a whole chunk.
 template <class T>
 struct JitScratch {
     std::vector<T> slots;
     std::vector<T> constants;
     std::vector<T*> tail_slots;
+    std::vector<T> tail_lanes;   ///< a padded tail's external slots, a chunk each
     const Instruction* constants_of = nullptr;   ///< the code `constants` was read from
     std::size_t uniforms_row = ~std::size_t{0};  ///< the row RowValues last put in `constants`
     /// False if a divisor of `constants_of` is not one the code was compiled to multiply by
@@ -62,9 +65,8 @@ struct RowValues {
 /// The vectors compiled tapes are written for.
 enum class JitWidth : uint8_t { avx2, avx512 };
 
-/// The width CompiledTape::compile writes: AVX-512 where the CPU has it and runs 512-bit
-/// operations at full width (not AMD's Zen 4, which splits them), else AVX2; or as set by
-/// use_tape_jit_width.
+/// The width CompiledTape::compile writes: AVX-512 where the CPU has it, else AVX2; or as
+/// set by use_tape_jit_width.
 JitWidth tape_jit_width();
 /// Sets the width (--isa, tests), AVX-512 only where the CPU has it (else AVX2).
 void use_tape_jit_width(JitWidth width);
@@ -92,13 +94,13 @@ public:
     /// constants nor outputs) are not written.
     ///
     /// With `row`, the uniforms' constant operands are taken from it instead of from `code`,
-    /// which then need not be patched for the row, unless reads_code_constants(lanes).
+    /// which then need not be patched for the row, unless reads_code_constants().
     void run(const Instruction* code, std::size_t count, T* const* slots, int lanes, JitScratch<T>& scratch,
              bool constants_changed, const RowValues<T>* row = nullptr) const;
 
-    /// Whether run() over `lanes` lanes reads the uniforms' values from `code`: in the lanes
-    /// after the last whole chunk, or for an operation handed back to the lane kernel.
-    bool reads_code_constants(int lanes) const;
+    /// Whether run() reads the uniforms' values from `code`: for an operation handed back
+    /// to the lane kernel.
+    bool reads_code_constants() const;
 
     /// Divisions by a constant the code multiplies by the reciprocal instead (constant_divisor.hpp).
     std::size_t divisions_by_reciprocal() const;

@@ -25,7 +25,7 @@ void CompiledTape<T>::run(const Instruction*, std::size_t, T* const*, int, JitSc
                           const RowValues<T>*) const {}
 
 template <class T>
-bool CompiledTape<T>::reads_code_constants(int) const {
+bool CompiledTape<T>::reads_code_constants() const {
     return true;
 }
 

@@ -234,7 +234,7 @@ void run_pass(const Pass<T>& pass, const Tiling& tiling, const EvalOptions& opti
         }
         // The row's values are patched into the code for the lane loops; compiled code takes
         // them straight into its constant pool where it reads none from the code.
-        const bool code_read = !compiled || compiled->reads_code_constants(tile.lanes);
+        const bool code_read = !compiled || compiled->reads_code_constants();
         const std::size_t uniform_count = pass.spec.uniforms.size();
         const std::span<const T> row_values =
             std::span<const T>(pass.uniforms).subspan(tile.row * uniform_count, uniform_count);

@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <numbers>
 
@@ -53,6 +54,8 @@ void write_one_slice(const Field& field, int slice, const ColourScale& scale, co
 ColourScale colour_scale(std::span<const double> values) {
     const std::size_t stride = std::max<std::size_t>(1, values.size() / kScaleSample);
     std::vector<double> inside, outside;
+    inside.reserve(values.size() / stride + 1);   // untouched until written: no regrowth copies
+    outside.reserve(values.size() / stride + 1);
     for (std::size_t i = 0; i < values.size(); i += stride) {
         if (values[i] > 0.0 && std::isfinite(values[i])) inside.push_back(values[i]);
         if (values[i] < 0.0 && std::isfinite(values[i])) outside.push_back(-values[i]);
@@ -132,13 +135,40 @@ std::vector<Rgb8> render_slice(const Field& field, int slice, const ColourScale&
     const Grid& g = field.grid;
     const std::span<const double> v = slice_values(field, slice);
     const int cols = g.cols(), rows = g.rows();
-    const std::vector<double> levels = picture_levels(scale, options.picture);
+    std::vector<double> levels = picture_levels(scale, options.picture);   // sorted
+    if (options.draw_contour) levels.insert(std::lower_bound(levels.begin(), levels.end(), 0.0), 0.0);
     std::vector<Rgb8> pixels(v.size());
+    // Neighbouring pixels often hold the same value (a sign picture holds three): its colour
+    // is computed once per run of equal values, not per pixel.
+    std::uint64_t last_bits = std::bit_cast<std::uint64_t>(v.empty() ? 0.0 : v[0]) ^ 1u;
+    Rgb8 last_colour{};
     for (int r = 0; r < rows; ++r)
         for (int c = 0; c < cols; ++c) {
             const std::size_t i = static_cast<std::size_t>(r) * cols + c;
-            pixels[i] = value_colour(v[i], scale, options.bands);
-            if (!std::isfinite(v[i])) continue;
+            const std::uint64_t bits = std::bit_cast<std::uint64_t>(v[i]);
+            if (bits != last_bits) {
+                last_bits = bits;
+                last_colour = value_colour(v[i], scale, options.bands);
+            }
+            pixels[i] = last_colour;
+            if (!std::isfinite(v[i]) || levels.empty()) continue;
+            // A level can be marked here only if it lies between this value and a finite
+            // neighbour's (or equals this value): the levels outside that span are skipped.
+            double low = v[i], high = v[i];
+            auto widen = [&](int cc, int rr) {
+                if (cc < 0 || cc >= cols || rr < 0 || rr >= rows) return;
+                const double w = v[static_cast<std::size_t>(rr) * cols + cc];
+                if (!std::isfinite(w)) return;
+                low = std::min(low, w);
+                high = std::max(high, w);
+            };
+            widen(c - 1, r);
+            widen(c + 1, r);
+            widen(c, r - 1);
+            widen(c, r + 1);
+            if (high < levels.front() || low > levels.back()) continue;
+            auto first = std::lower_bound(levels.begin(), levels.end(), low);
+            if (first == levels.end() || *first > high) continue;
             // On the level set of `level`: exactly there, or the nearer side of a sign change.
             auto on_level = [&](double level) {
                 const double here = v[i] - level;
@@ -150,9 +180,15 @@ std::vector<Rgb8> render_slice(const Field& field, int slice, const ColourScale&
                 };
                 return crosses(c - 1, r) || crosses(c + 1, r) || crosses(c, r - 1) || crosses(c, r + 1);
             };
-            for (double level : levels)
-                if (on_level(level)) pixels[i] = kLevelColour;
-            if (options.draw_contour && on_level(0.0)) pixels[i] = kContourColour;
+            bool on_other_level = false, on_contour = false;
+            for (auto level = first; level != levels.end() && *level <= high; ++level) {
+                if (!on_level(*level)) continue;
+                // Zero is the contour when it is drawn (it is never among picture_levels).
+                if (*level == 0.0 && options.draw_contour) on_contour = true;
+                else on_other_level = true;
+            }
+            if (on_other_level) pixels[i] = kLevelColour;
+            if (on_contour) pixels[i] = kContourColour;
         }
     draw_markers(g, options.markers, cols, rows, pixels);
     return pixels;

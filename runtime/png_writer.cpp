@@ -6,6 +6,9 @@
 
 #include <fmt/format.h>
 
+#include <memory>
+#include <new>
+
 namespace fortu {
 
 std::string encode_png(int cols, int rows, int channels, const std::uint8_t* pixels,
@@ -18,8 +21,22 @@ std::string encode_png(int cols, int rows, int channels, const std::uint8_t* pix
     image.width = static_cast<png_uint_32>(cols);
     image.height = static_cast<png_uint_32>(rows);
     image.format = kFormats[channels - 1];
-    png_alloc_size_t size = 0;
-    // The first call measures, the second writes.
+    // One compression into a buffer of libpng's worst-case size, left uninitialised so that
+    // only the pages the compressed stream reaches are touched; asking for the size first
+    // (a null buffer) compresses the whole picture twice (half of a 1024² sign picture's
+    // write time). The measuring call stays for a size that does not fit the type.
+    png_alloc_size_t size = PNG_IMAGE_PNG_SIZE_MAX(image);
+    if (size > PNG_IMAGE_DATA_SIZE(image)) {
+        const std::unique_ptr<unsigned char[]> buffer(new (std::nothrow) unsigned char[size]);
+        if (buffer) {
+            if (!png_image_write_to_memory(&image, buffer.get(), &size, 0, pixels, 0, nullptr))
+                return fmt::format("libpng: {}", image.message);
+            bytes.assign(buffer.get(), buffer.get() + size);
+            png_image_free(&image);
+            return {};
+        }
+    }
+    size = 0;
     if (!png_image_write_to_memory(&image, nullptr, &size, 0, pixels, 0, nullptr))
         return fmt::format("libpng: {}", image.message);
     bytes.resize(size);

@@ -144,6 +144,90 @@ TEST_CASE("render_slice: the contour pixel is the one nearer to zero, or exactly
     CHECK(render_slice(f, 0, ColourScale{}, plain)[0] == kInsideFar);
 }
 
+namespace {
+/// render_slice's marking spelt out pixel by pixel, level by level: what the picture must show.
+std::vector<Rgb8> reference_slice(const Field& field, const ColourScale& scale, const OutputOptions& options) {
+    const int cols = field.grid.cols(), rows = field.grid.rows();
+    const std::vector<double>& v = field.values;
+    auto sign = [](double x) { return (x > 0.0) - (x < 0.0); };
+    std::vector<Rgb8> pixels(v.size());
+    for (int r = 0; r < rows; ++r)
+        for (int c = 0; c < cols; ++c) {
+            const std::size_t i = static_cast<std::size_t>(r) * cols + c;
+            pixels[i] = value_colour(v[i], scale, options.bands);
+            if (!std::isfinite(v[i])) continue;
+            auto on_level = [&](double level) {
+                const double here = v[i] - level;
+                if (here == 0.0) return true;
+                const int dc[] = {-1, 1, 0, 0}, dr[] = {0, 0, -1, 1};
+                for (int k = 0; k < 4; ++k) {
+                    const int cc = c + dc[k], rr = r + dr[k];
+                    if (cc < 0 || cc >= cols || rr < 0 || rr >= rows) continue;
+                    const double w = v[static_cast<std::size_t>(rr) * cols + cc] - level;
+                    if (std::isfinite(w) && sign(w) == -sign(here) && std::abs(w) >= std::abs(here)) return true;
+                }
+                return false;
+            };
+            for (double level : picture_levels(scale, options.picture))
+                if (on_level(level)) pixels[i] = kLevelColour;
+            if (options.draw_contour && on_level(0.0)) pixels[i] = kContourColour;
+        }
+    return pixels;
+}
+}  // namespace
+
+TEST_CASE("render_slice: every pixel as the level-by-level rule marks it, with levels, runs, ties and invalid values") {
+    // Waves with plateaus (runs of one value), exact zeros and level values, ties between
+    // neighbours, NaN and ±inf, on an odd-sized grid.
+    Field f = sample2(37, 23, [](double x, double y) {
+        const double wave = std::sin(7 * x) * std::cos(5 * y) * 1.5;
+        return std::abs(wave) < 0.3 ? std::round(wave * 4) / 4 : wave;
+    });
+    f.values[f.grid.index(0, 0)] = std::nan("");
+    f.values[f.grid.index(5, 7)] = std::numeric_limits<double>::infinity();
+    f.values[f.grid.index(6, 7)] = -std::numeric_limits<double>::infinity();
+    f.values[f.grid.index(20, 11)] = 0.5;
+    f.values[f.grid.index(21, 11)] = -0.5;
+    const ColourScale scale = colour_scale(f.values);
+    int cases = 0;
+    for (const std::vector<double>& levels :
+         {std::vector<double>{}, {0.5}, {-0.5, 0.25, 1.0}, {-0.0, 0.75}, {-1e300, 1e300}}) {
+        for (int count : {0, 3}) {
+            for (bool contour : {true, false}) {
+                OutputOptions options;
+                options.picture.levels = levels;
+                options.picture.level_count = levels.empty() ? count : 0;
+                options.draw_contour = contour;
+                CAPTURE(levels.size());
+                CAPTURE(count);
+                CAPTURE(contour);
+                CHECK(render_slice(f, 0, scale, options) == reference_slice(f, scale, options));
+                ++cases;
+            }
+        }
+    }
+    CHECK(cases == 20);
+}
+
+TEST_CASE("png: a picture that does not compress is written whole and reads back pixel for pixel") {
+    // Noise: the compressed stream is about as long as the pixels, the case the buffer of
+    // libpng's worst-case size exists for.
+    ScratchDir dir;
+    const int cols = 301, rows = 97;
+    std::vector<std::uint8_t> noise(static_cast<std::size_t>(cols) * rows * 3);
+    std::uint32_t state = 12345;
+    for (std::uint8_t& b : noise) {
+        state = state * 1664525u + 1013904223u;
+        b = static_cast<std::uint8_t>(state >> 24);
+    }
+    write_image_8bit(dir / "noise.png", cols, rows, 3, noise, OutputOptions{});
+    const Image image = read_image(dir / "noise.png");
+    CHECK(image.spec.width == cols);
+    CHECK(image.spec.height == rows);
+    CHECK(image.bytes == noise);
+    CHECK(fs::file_size(dir / "noise.png") > noise.size());
+}
+
 TEST_CASE("png: written, read back, expected colours at inside, outside, contour, invalid pixels") {
     const Field f = disc();
     ScratchDir dir;

@@ -154,18 +154,24 @@ std::vector<Rgb8> render_slice(const Field& field, int slice, const ColourScale&
             if (!std::isfinite(v[i]) || levels.empty()) continue;
             // A level can be marked here only if it lies between this value and a finite
             // neighbour's (or equals this value): the levels outside that span are skipped.
+            // (std::min and std::max keep the first argument against a NaN; an infinite
+            // neighbour only widens the span, and the test below excludes it.)
             double low = v[i], high = v[i];
-            auto widen = [&](int cc, int rr) {
-                if (cc < 0 || cc >= cols || rr < 0 || rr >= rows) return;
-                const double w = v[static_cast<std::size_t>(rr) * cols + cc];
-                if (!std::isfinite(w)) return;
+            auto widen = [&](double w) {
                 low = std::min(low, w);
                 high = std::max(high, w);
             };
-            widen(c - 1, r);
-            widen(c + 1, r);
-            widen(c, r - 1);
-            widen(c, r + 1);
+            if (c > 0 && c + 1 < cols && r > 0 && r + 1 < rows) {
+                widen(v[i - 1]);
+                widen(v[i + 1]);
+                widen(v[i - cols]);
+                widen(v[i + cols]);
+            } else {
+                if (c > 0) widen(v[i - 1]);
+                if (c + 1 < cols) widen(v[i + 1]);
+                if (r > 0) widen(v[i - cols]);
+                if (r + 1 < rows) widen(v[i + cols]);
+            }
             if (high < levels.front() || low > levels.back()) continue;
             auto first = std::lower_bound(levels.begin(), levels.end(), low);
             if (first == levels.end() || *first > high) continue;

@@ -12,8 +12,9 @@
 namespace fortu {
 
 /// Encodes cols x rows 8-bit pixels (`channels` 1 grey, 2 grey+alpha, 3 RGB or 4 RGBA, row 0
-/// at the top) as a PNG file's bytes, replacing `bytes`. Deterministic: the same pixels give
-/// the same bytes. Returns "" or the reason it cannot.
+/// at the top) as a PNG file's bytes, replacing `bytes`. An RGB picture of at most 256 colours
+/// is written with a palette (readers expand it to the same pixels). Deterministic: the same
+/// pixels give the same bytes. Returns "" or the reason it cannot.
 std::string encode_png(int cols, int rows, int channels, const std::uint8_t* pixels,
                        std::vector<unsigned char>& bytes);
 

@@ -209,6 +209,30 @@ TEST_CASE("render_slice: every pixel as the level-by-level rule marks it, with l
     CHECK(cases == 20);
 }
 
+TEST_CASE("png: a picture of at most 256 colours is written with a palette and reads back as the same RGB") {
+    // Colours as a count: 256 fit a palette, 257 do not; each reads back as the same pixels.
+    ScratchDir dir;
+    for (const int colours : {1, 3, 256, 257}) {
+        CAPTURE(colours);
+        const int cols = 40, rows = 33;
+        std::vector<std::uint8_t> rgb(static_cast<std::size_t>(cols) * rows * 3);
+        for (std::size_t i = 0; i < rgb.size() / 3; ++i) {
+            const std::size_t colour = (i * 7) % colours;   // every colour used, in runs and scattered
+            rgb[3 * i] = static_cast<std::uint8_t>(colour % 256);
+            rgb[3 * i + 1] = static_cast<std::uint8_t>(colour / 256 * 200);
+            rgb[3 * i + 2] = static_cast<std::uint8_t>(255 - colour % 97);
+        }
+        const std::string path = dir / fmt::format("colours{}.png", colours);
+        write_image_8bit(path, cols, rows, 3, rgb, OutputOptions{});
+        const std::string file = test::read_file(path);
+        REQUIRE(file.size() > 26);
+        CHECK(static_cast<int>(file[25]) == (colours <= 256 ? 3 : 2));   // IHDR colour type: palette, RGB
+        const Image image = read_image(path);
+        CHECK(image.spec.nchannels == 3);
+        CHECK(image.bytes == rgb);
+    }
+}
+
 TEST_CASE("png: a picture that does not compress is written whole and reads back pixel for pixel") {
     // Noise: the compressed stream is about as long as the pixels, the case the buffer of
     // libpng's worst-case size exists for.

@@ -12,6 +12,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -219,6 +220,35 @@ TEST_CASE("csv: header, one line per node in image order, %.17g, nan/inf/-inf") 
     CHECK(lines[5] == "0,0,-inf");
     CHECK(lines[6] == "1,0,nan");
     CHECK(lines[9] == "1,-1,0");
+}
+
+TEST_CASE("csv: every value and coordinate is printf's %.17g, from subnormals to the largest double") {
+    // Values that print differently in every notation %g has: subnormal, tiny, exponents at
+    // the switch between fixed and scientific, halves, -0, the extremes; and a grid whose
+    // coordinates are not short decimals.
+    const std::vector<double> values{5e-324, -2.2250738585072014e-308, 1e-300, 0.0001, 0.00001, -0.0,
+                                     0.5, 1.0 / 3, 12345678901234567.0, 1e16, 1e17, -1.7976931348623157e308,
+                                     2.5e-5, 999999999999999.9, 0.1 + 0.2, 7.0, 123.456, -9.87654321e-10,
+                                     6.02214076e23, 42.0, 3.0e-7};
+    Field f;
+    f.grid.x = {-0.7, 1.3, 7};
+    f.grid.y = {0.1, 0.4, 3};
+    REQUIRE(f.grid.points() == values.size());
+    f.values = values;
+    ScratchDir dir;
+    write_field(f, dir / "numbers.csv");
+    const auto lines = read_lines(dir / "numbers.csv");
+    REQUIRE(lines.size() == values.size() + 1);
+    auto printed = [](double v) {
+        char text[64];
+        std::snprintf(text, sizeof text, "%.17g", v);
+        return std::string(text);
+    };
+    for (int r = 0; r < f.grid.rows(); ++r)
+        for (int c = 0; c < f.grid.cols(); ++c) {
+            const std::size_t i = f.grid.index(c, r);
+            CHECK(lines[1 + i] == printed(f.grid.x_at(c)) + "," + printed(f.grid.y_at(r)) + "," + printed(values[i]));
+        }
 }
 
 TEST_CASE("csv: 3D lines carry z; coordinates with 17 digits") {

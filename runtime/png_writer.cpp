@@ -15,15 +15,15 @@ namespace {
 
 /// The pixels of an RGB picture as a palette (3 bytes a colour, in order of first use) and an
 /// index a pixel, if it has at most 256 colours; false otherwise. Why: a sign picture has
-/// three or four colours, and libpng filters and zlib compresses a third of the bytes (its
-/// 1024² write 33 → about 11 ms); every PNG reader expands a palette to the same colours.
+/// three or four colours, and libpng filters and zlib compresses a third of the bytes or less
+/// (prospero.vm's 1024² sign run: 669 M → 286 M instructions in all); every PNG reader expands
+/// a palette to the same colours.
 bool palette_of(const std::uint8_t* rgb, std::size_t pixels, std::vector<std::uint8_t>& palette,
-                std::vector<std::uint8_t>& indices) {
+                std::uint8_t* indices) {
     constexpr std::size_t kSlots = 1024;   // open addressing, at most a quarter full
     std::array<std::uint32_t, kSlots> keys{};   // colour + 1, 0 for empty
     std::array<std::uint8_t, kSlots> index_of{};
     palette.clear();
-    indices.resize(pixels);
     std::uint32_t last_key = 0;
     std::uint8_t last_index = 0;
     for (std::size_t i = 0; i < pixels; ++i) {
@@ -87,11 +87,15 @@ std::string encode_png(int cols, int rows, int channels, const std::uint8_t* pix
     image.height = static_cast<png_uint_32>(rows);
     image.format = kFormats[channels - 1];
     if (channels == 3) {
-        std::vector<std::uint8_t> palette, indices;
-        if (palette_of(pixels, std::size_t(cols) * rows, palette, indices)) {
+        // Uninitialised: a picture of many colours gives up after its first rows, and the
+        // pages it did not reach are never touched.
+        const std::size_t count = std::size_t(cols) * rows;
+        const std::unique_ptr<std::uint8_t[]> indices(new (std::nothrow) std::uint8_t[count]);
+        std::vector<std::uint8_t> palette;
+        if (indices && palette_of(pixels, count, palette, indices.get())) {
             image.format = PNG_FORMAT_RGB_COLORMAP;
             image.colormap_entries = static_cast<png_uint_32>(palette.size() / 3);
-            return compress(image, indices.data(), palette.data(), bytes);
+            return compress(image, indices.get(), palette.data(), bytes);
         }
     }
     return compress(image, pixels, nullptr, bytes);

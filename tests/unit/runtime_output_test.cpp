@@ -3,6 +3,7 @@
 #include "test_support.hpp"
 #include "runtime/atomic_file.hpp"
 #include "runtime/contour.hpp"
+#include "runtime/mesh_io.hpp"
 #include "runtime/npy.hpp"
 #include "runtime/output.hpp"
 #include "runtime/output_error.hpp"
@@ -383,4 +384,39 @@ TEST_CASE("a mesh format takes a mesh, not grid values") {
                           "': STL holds a mesh, made from the model by 'fortu run', not grid values").c_str(),
                          OutputError);
     CHECK(dir.entries() == 0);
+}
+
+TEST_CASE("ascii STL: a facet's normal and vertices as printf's %.9g, the solid named fortu") {
+    // One triangle whose coordinates print in fixed, scientific and integer form.
+    Mesh mesh;
+    mesh.vertices = {{0.0, 0.0, 0.0}, {1.0 / 3, 2.5e-7, -1234567.891}, {0.0, 1e-300, 7.0}};
+    mesh.triangles = {{0, 1, 2}};
+    fortu::test::ScratchDir dir;
+    OutputOptions options;
+    options.ascii = true;
+    write_stl(mesh, dir / "t.stl", options);
+    const auto lines = read_lines(dir / "t.stl");
+    REQUIRE(lines.size() == 9);
+    auto printed = [](double a, double b, double c) {
+        char text[128];
+        std::snprintf(text, sizeof text, "%.9g %.9g %.9g", a, b, c);
+        return std::string(text);
+    };
+    const auto& v = mesh.vertices;
+    const std::array<double, 3> e1{v[1][0] - v[0][0], v[1][1] - v[0][1], v[1][2] - v[0][2]};
+    const std::array<double, 3> e2{v[2][0] - v[0][0], v[2][1] - v[0][1], v[2][2] - v[0][2]};
+    CHECK(lines[0] == "solid fortu");
+    CHECK(lines[1].starts_with("facet normal "));
+    CHECK(lines[2] == " outer loop");
+    for (int k = 0; k < 3; ++k) CHECK(lines[3 + k] == "  vertex " + printed(v[k][0], v[k][1], v[k][2]));
+    CHECK(lines[6] == " endloop");
+    CHECK(lines[7] == "endfacet");
+    CHECK(lines[8] == "endsolid fortu");
+    // The normal: the unit cross product, each component as %.9g.
+    std::array<double, 3> n{e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+    double components[3];
+    REQUIRE(std::sscanf(lines[1].c_str(), "facet normal %lg %lg %lg", &components[0], &components[1], &components[2]) == 3);
+    const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    for (int k = 0; k < 3; ++k) CHECK(components[k] == doctest::Approx(n[k] / length).epsilon(1e-8));
+    CHECK(lines[1] == "facet normal " + printed(components[0], components[1], components[2]));
 }

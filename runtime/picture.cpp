@@ -172,7 +172,6 @@ std::vector<Rgb8> render_slice(const Field& field, int slice, const ColourScale&
                 if (r > 0) widen(v[i - cols]);
                 if (r + 1 < rows) widen(v[i + cols]);
             }
-            if (high < levels.front() || low > levels.back()) continue;
             auto first = std::lower_bound(levels.begin(), levels.end(), low);
             if (first == levels.end() || *first > high) continue;
             // On the level set of `level`: exactly there, or the nearer side of a sign change.

@@ -245,10 +245,10 @@ public:
         return level;
     }
 
-    /// A box of the breadth-first levels (2D) and a tape valid over it whose intervals over
-    /// the box are known not to decide it: its parts, split as render_quadrants splits them,
-    /// decided into `decided` or with their shortened tapes into `undecided` (the box's own
-    /// tape where a part barely shortens it: the copy is not worth it).
+    /// A box of the breadth-first levels (2D) and a tape valid over it (the domain's, or one
+    /// shortened for the box, whose intervals did not decide it): its parts, split as
+    /// render_quadrants splits them, decided into `decided` or with their shortened tapes into
+    /// `undecided` (the box's own tape where a part barely shortens it: the copy is not worth it).
     struct Part {
         Box box;
         std::shared_ptr<const Tape> tape;
@@ -285,7 +285,8 @@ public:
     }
 
     /// A box of the breadth-first levels (2D) whose tape is valid over it and whose intervals
-    /// do not decide it, to the end: a leaf's points, or its quadrants.
+    /// do not decide it (or were not taken: an image of one leaf), to the end: a leaf's
+    /// points, or its quadrants.
     void render_undecided(const Box& box, const Tape& tape, Scratch& s, SignRenderStats& st) {
         if (is_leaf(box)) evaluate_points(box, tape, float32_bound(box, tape, s), s, st);
         else render_quadrants(box, tape, s, 0, st);
@@ -537,19 +538,12 @@ void render_signs(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
                              std::make_shared<const Tape>(pruning_tape(graph, root))}};
     std::vector<Decided> decided;
     const std::size_t enough = std::size_t(16) * threads;
-    // 2D: the root's own intervals, then each level's quadrants in one walk of their box's
-    // tape (render_quadrants), so the items carry tapes already shortened for their box.
+    // 2D: each level's quadrants in one walk of their box's tape (render_quadrants), so the
+    // items carry tapes already shortened for their box. The whole domain's own intervals are
+    // not taken first: they rarely decide an image, and its tape shortened for the whole
+    // domain is nearly the tape itself (prospero.vm: that pass and copy were 2.6% of the
+    // render's instructions).
     const bool quadrants = grid.slices() == 1;
-    if (quadrants) {
-        const Item root_item = items[0];
-        items.clear();
-        auto shortened = std::make_shared<Tape>();
-        if (const std::optional<double> sign = renderer.decide(root_item.box, *root_item.tape, scratch[0], *shortened,
-                                                               worker_stats[0]))
-            decided.push_back({root_item.box, *sign});
-        else
-            items.push_back({root_item.box, std::move(shortened)});
-    }
     for (bool split_any = true; quadrants && split_any && !items.empty() && items.size() < enough;) {
         std::vector<std::vector<std::pair<Box, double>>> decided_parts(items.size());
         std::vector<std::vector<typename Renderer<Signs>::Part>> parts(items.size());

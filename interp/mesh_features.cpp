@@ -329,6 +329,8 @@ bool segment_through_triangle(const Vec& p, const Vec& q, const Vec& a, const Ve
 /// the mesh, shared by the two cells' patches. On a grid edge or a grid node (a solid's edge
 /// on the lattice) it lies on several faces; it goes into one segment of the cells' patch
 /// boundaries, chosen once for all cells, so the two cells of that segment's face take it.
+/// Where the curve goes through a node from one cell to one that shares no face with that
+/// segment's, a clone (the same vertex) goes into a segment of that cell too.
 struct Crossing {
     uint32_t vertex;   ///< its index among the positions
     int operation;
@@ -1018,7 +1020,16 @@ private:
             }
             return rings.emplace(id, std::move(ring)).first->second;
         };
-        for (Crossing& x : crossings_) {
+        struct Clone {
+            int of;
+            uint64_t face;
+            std::pair<uint32_t, uint32_t> segment;
+            std::vector<uint64_t> cells;  ///< the linked cells it serves
+        };
+        std::vector<Clone> clones;
+        const std::size_t traced = crossings_.size();
+        for (std::size_t index = 0; index < traced; ++index) {
+            Crossing& x = crossings_[index];
             if (!x.alive) continue;
             const Vec& q = positions_[x.vertex];
             struct Candidate {
@@ -1026,6 +1037,7 @@ private:
                 std::pair<uint32_t, uint32_t> segment;
                 uint64_t face;
                 bool folds;  ///< q put in crosses another segment of the face's ring
+                double bend;  ///< its ends' normals' dot product: the surface turns across it
             };
             std::vector<Candidate> candidates;
             double h = 0;
@@ -1063,7 +1075,8 @@ private:
                                 folds = segments_cross_2d(flat(u), flat(q), flat(f), flat(g), 1e-12 * h * h) ||
                                         segments_cross_2d(flat(q), flat(v), flat(f), flat(g), 1e-12 * h * h);
                             }
-                            candidates.push_back({norm(sub(q, {u[0] + s * d[0], u[1] + s * d[1], u[2] + s * d[2]})), {a, b}, face, folds});
+                            candidates.push_back({norm(sub(q, {u[0] + s * d[0], u[1] + s * d[1], u[2] + s * d[2]})), {a, b}, face,
+                                                  folds, dot(normals_[a], normals_[b])});
                         }
                     }
             }
@@ -1082,17 +1095,79 @@ private:
                 x.on_mesh_vertex = true;
                 continue;
             }
-            // The nearest segment q can go into without folding its face, else the nearest.
-            double nearest_flat = std::numeric_limits<double>::infinity();
-            for (const Candidate& c : candidates)
-                if (!c.folds) nearest_flat = std::min(nearest_flat, c.distance);
-            const bool any_flat = nearest_flat <= h;
-            x.segment = {UINT32_MAX, UINT32_MAX};
-            for (const Candidate& c : candidates)
-                if ((any_flat ? !c.folds && c.distance <= nearest_flat + 1e-9 * h : c.distance <= nearest + 1e-9 * h) &&
-                    c.segment < x.segment)
-                    x.segment = c.segment, x.face = c.face;
-            if (candidates.empty() || nearest > h) x.alive = false;
+            // Of `candidates` that `usable` admits, the nearest that q can go into without folding
+            // its face, else the nearest; of those equally near (a node is as near to the two
+            // segments beside a marching-tetrahedra vertex), the one whose ends' normals differ
+            // most: the surface turns across it, so the feature edge cut there leaves each
+            // polygon on one face of the solid. Then the segments' vertices decide.
+            auto choose = [&](const auto& usable) -> const Candidate* {
+                double near_any = std::numeric_limits<double>::infinity(), near_flat = near_any;
+                for (const Candidate& c : candidates)
+                    if (usable(c)) {
+                        near_any = std::min(near_any, c.distance);
+                        if (!c.folds) near_flat = std::min(near_flat, c.distance);
+                    }
+                const bool any_flat = near_flat <= h;
+                const Candidate* best = nullptr;
+                for (const Candidate& c : candidates) {
+                    if (!usable(c) || !(any_flat ? !c.folds && c.distance <= near_flat + 1e-9 * h : c.distance <= near_any + 1e-9 * h))
+                        continue;
+                    if (!best || std::tie(c.bend, c.segment) < std::tie(best->bend, best->segment)) best = &c;
+                }
+                return best;
+            };
+            if (const Candidate* best = choose([](const Candidate&) { return true; }))
+                x.segment = best->segment, x.face = best->face;
+            if (candidates.empty() || nearest > h) {
+                x.alive = false;
+                continue;
+            }
+            // A curve through a grid node from one cell to the one diagonally across it links
+            // the node's crossing in two cells that share no face: one segment serves only one
+            // of them, so the other gets the same vertex through a segment of its own (a clone),
+            // and the cell between them takes it twice, its ring pinched there (build_cell).
+            const auto chosen = cells_of_face(x.face);
+            for (uint64_t cell : cells_around(q)) {
+                if (cell == chosen[0] || cell == chosen[1]) continue;
+                const int self = int(index);
+                // Only a link across the cell, or a spoke from the cell's corner: one along a
+                // grid edge through q (both ends on it) is joined by the cells around that edge
+                // as they are.
+                auto across = [&](const Vec& other) {
+                    int apart = 0;
+                    for (int a = 0; a < 3; ++a) apart += other[a] != q[a];
+                    return apart >= 2;
+                };
+                const auto links = links_.find(cell);
+                const bool linked = links != links_.end() && std::any_of(links->second.begin(), links->second.end(), [&](const auto& l) {
+                    return (l.first == self || l.second == self) &&
+                           across(positions_[crossings_[l.first == self ? l.second : l.first].vertex]);
+                });
+                const auto apex = apex_.find(cell);
+                if (!linked && !(apex != apex_.end() && across(positions_[apex->second]))) continue;
+                const Candidate* best = choose([&](const Candidate& c) {
+                    const auto two = cells_of_face(c.face);
+                    return (two[0] == cell || two[1] == cell) && c.segment != x.segment && c.distance <= h;
+                });
+                if (!best) continue;
+                auto clone = std::find_if(clones.begin(), clones.end(), [&](const Clone& k) { return k.of == self && k.segment == best->segment; });
+                if (clone == clones.end()) clone = clones.insert(clones.end(), {self, best->face, best->segment, {}});
+                clone->cells.push_back(cell);
+            }
+        }
+        for (const Clone& k : clones) {
+            Crossing clone = crossings_[k.of];
+            clone.face = k.face;
+            clone.segment = k.segment;
+            const int id = int(crossings_.size());
+            crossings_.push_back(clone);
+            face_crossings_[k.face].push_back(id);
+            for (uint64_t cell : k.cells)
+                if (const auto links = links_.find(cell); links != links_.end())
+                    for (auto& link : links->second) {
+                        if (link.first == k.of) link.first = id;
+                        if (link.second == k.of) link.second = id;
+                    }
         }
     }
 
@@ -1730,6 +1805,9 @@ private:
         std::size_t feature_edges = 0;
         if (apex_it != apex_.end()) {
             // A corner: a fan from it over the ring, a graph along one of the faces' normals.
+            std::vector<uint32_t> sorted_ring = ring;
+            std::sort(sorted_ring.begin(), sorted_ring.end());
+            if (std::adjacent_find(sorted_ring.begin(), sorted_ring.end()) != sorted_ring.end()) return false;  // pinched
             const uint32_t apex = apex_it->second;
             const Vec& c = positions_[apex];
             if (!cell.contains(c, 1e-12 * h)) return false;
@@ -1811,6 +1889,17 @@ private:
             for (std::size_t k = 0; k < m; ++k)
                 if (!taken[k]) rest.push_back(ring[k]);
             polygons.push_back(std::move(rest));
+            // A ring pinched at a vertex it holds twice (a clone's, choose_segments): two loops.
+            for (std::size_t p = 0; p < polygons.size(); ++p)
+                for (std::size_t i = 0; i < polygons[p].size(); ++i) {
+                    auto& poly = polygons[p];
+                    const auto again = std::find(poly.begin() + long(i) + 1, poly.end(), poly[i]);
+                    if (again == poly.end()) continue;
+                    std::vector<uint32_t> other(poly.begin() + long(i), again);
+                    poly.erase(poly.begin() + long(i), again);
+                    polygons.push_back(std::move(other));
+                    --i;
+                }
             std::vector<std::size_t> first_of;  // where each polygon's triangles start
             if (!triangulate_sides(polygons, cell, 64, {}, triangles, first_of)) return false;
             // Triangles of different polygons (the two sides of an edge) must not cross.

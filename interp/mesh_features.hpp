@@ -22,8 +22,10 @@
 // that, it gives up its crossings and its neighbours are redone without them.
 // Features on the lattice (a crossing on a grid edge or node, a corner on a grid plane): the
 // point is snapped exactly there and shared by every cell around it: each crossing goes into
-// one patch-boundary segment chosen once for all cells, and a corner the solid surrounds on
-// both sides of a grid plane is fanned over the joined patches of the cells around it.
+// one patch-boundary segment chosen once for all cells (and, where the curve passes a node
+// into a cell diagonally across, into one of that cell's too: the cell between takes the
+// vertex twice and is triangulated as two loops), and a corner the solid surrounds on both
+// sides of a grid plane is fanned over the joined patches of the cells around it.
 // Features in cells marching tetrahedra left empty (an acute edge's wedge thinner than a cell,
 // a tip whose cell holds no node inside): their crossings and tips, joined by the traced links,
 // form a tree whose leaves are crossings on patches; the patches of a block of cells around it

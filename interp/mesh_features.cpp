@@ -485,6 +485,17 @@ public:
         return true;
     }
 
+    /// Whether a group's new edge from p to q touches no cell outside the group that has
+    /// triangles (every cell whose closed box holds both ends).
+    bool chord_free(const std::vector<uint64_t>& group, const Vec& p, const Vec& q) const {
+        const std::vector<uint64_t> other = cells_around(q);
+        for (uint64_t cell : cells_around(p))
+            if (std::find(other.begin(), other.end(), cell) != other.end() &&
+                std::find(group.begin(), group.end(), cell) == group.end() && has_patch_ && has_patch_(cell))
+                return false;
+        return true;
+    }
+
     /// Phase 1, per cell with triangles: a cell whose normals disagree seeds the traces of the
     /// edge curves through it, and may hold a corner.
     void seed(uint64_t id, const std::vector<uint32_t>& patch, FeatureStats& stats) {
@@ -551,8 +562,10 @@ public:
         for (uint64_t id : end_cells_) find_corner(id);
         choose_segments(patch_of);
         plan_wedges();
+        plan_edge_groups(patch_of);
         std::vector<uint64_t> queue;
         for (const auto& [id, apex] : apex_) queue.push_back(id);
+        for (const auto& [id, cells] : groups_) queue.push_back(id);
         for (const auto& [id, wedge] : wedge_of_) queue.push_back(id);
         for (const Crossing& c : crossings_)
             if (c.alive)
@@ -893,6 +906,137 @@ private:
             visited_.insert(visit_key(cell, k));
         }
         return first;
+    }
+
+    /// A piece of edge along a grid edge with the solid on both sides of a grid plane through
+    /// it (the pentagon prism's vertical edges at x = 0 on cells of 0.5): the two cells beside
+    /// that plane both have triangles, and the piece lies on the face between them, so neither
+    /// may join it alone (marching tetrahedra's segment on that face, a thousandth of a cell
+    /// off, is what the other cell meets). Their patches are redone together instead, the
+    /// face between them inside, as for a corner on the lattice (groups_).
+    void plan_edge_groups(const std::function<std::optional<std::vector<uint32_t>>(uint64_t)>& patch_of) {
+        std::map<uint64_t, std::vector<uint64_t>> planned;
+        std::set<uint64_t> refused;  // wanted by two different groups: left to themselves
+        for (const auto& [id, links] : links_)
+            for (const auto& [a, b] : links) {
+                const Vec &p = positions_[crossings_[a].vertex], &q = positions_[crossings_[b].vertex];
+                int along_planes = 0;
+                for (int axis = 0; axis < 3; ++axis) {
+                    const long k = plane_of(p, axis);
+                    along_planes += k >= 0 && k == plane_of(q, axis);
+                }
+                if (along_planes != 2) continue;
+                std::vector<uint64_t> cells;
+                const std::vector<uint64_t> other = cells_around(q);
+                for (uint64_t cell : cells_around(p))
+                    if (std::find(other.begin(), other.end(), cell) != other.end() && (!has_patch_ || has_patch_(cell)))
+                        cells.push_back(cell);
+                if (cells.size() != 2) continue;
+                std::sort(cells.begin(), cells.end());
+                const auto c0 = coords(cells[0]), c1 = coords(cells[1]);
+                int differ = 0;
+                for (int axis = 0; axis < 3; ++axis) differ += c0[axis] != c1[axis];
+                if (differ != 1) continue;  // across the grid edge: no face between them
+                for (uint64_t cell : cells) {
+                    const auto it = planned.find(cell);
+                    if (it != planned.end() && it->second != cells) refused.insert(cell);
+                    planned[cell] = cells;
+                }
+            }
+        std::vector<std::pair<uint64_t, std::vector<uint64_t>>> chosen;
+        for (const auto& [cell, cells] : planned) {
+            bool free = true;
+            for (uint64_t g : cells) free &= !refused.count(g) && !groups_.count(g) && !apex_.count(g) && !wedge_of_.count(g);
+            if (free) chosen.emplace_back(cell, cells);
+        }
+        for (auto& [cell, cells] : chosen) groups_[cell] = std::move(cells);
+        // Each end of such a piece sits a thousandth of a cell from marching tetrahedra's vertex
+        // v on the face between the two cells. It goes into a segment beside v in the grid
+        // plane across the piece (not one on the face between them, which the group holds
+        // inside), and the short edge from v to it falls to the side of the other segment: it
+        // must be the side whose surface that edge does not stand up from (seen along that
+        // side's normal a triangle on it has no area: the prism's x = 0 edge at y = -3).
+        std::set<int> placed;
+        for (const auto& [cell, cells] : groups_) {
+            if (apex_.count(cell) || cells.size() != 2) continue;
+            for (uint64_t g : cells)
+                if (const auto links = links_.find(g); links != links_.end())
+                    for (const auto& [a, b] : links->second) {
+                        const Vec &p = positions_[crossings_[a].vertex], &q = positions_[crossings_[b].vertex];
+                        int across = -1, on_planes = 0;
+                        for (int axis = 0; axis < 3; ++axis) {
+                            const long k = plane_of(p, axis);
+                            if (k >= 0 && k == plane_of(q, axis)) ++on_planes;
+                            else across = axis;
+                        }
+                        if (on_planes != 2) continue;
+                        for (int x : {a, b})
+                            if (placed.insert(x).second) place_across_piece(x, across, cells, patch_of);
+                    }
+        }
+    }
+
+    /// Crossing x at an end of an edge group's piece along axis `along` (cells: the two beside
+    /// it) put into the segment of one cell's ring at the marching-tetrahedra vertex next to it
+    /// in the grid plane across the piece: the cell whose surface is the more perpendicular to
+    /// the short edge from that vertex, which then falls to the other cell.
+    void place_across_piece(int x, int along, const std::vector<uint64_t>& cells,
+                            const std::function<std::optional<std::vector<uint32_t>>(uint64_t)>& patch_of) {
+        Crossing& c = crossings_[x];
+        if (!c.alive || c.on_mesh_vertex || c.segment.first == UINT32_MAX) return;
+        const Vec q = positions_[c.vertex];
+        const double h = lattice_h(), tolerance = 1e-9 * h;
+        const auto c0 = coords(cells[0]), c1 = coords(cells[1]);
+        int between = 0;  // the axis of the face between the two cells
+        for (int a = 0; a < 3; ++a)
+            if (c0[a] != c1[a]) between = a;
+        std::vector<uint32_t> rings[2];
+        Vec normal[2];
+        for (int i = 0; i < 2; ++i) {
+            const auto patch = patch_of(cells[i]);
+            if (!patch || !boundary_loop(*patch, cell_box(cells[i]), rings[i])) return;
+            normal[i] = {0, 0, 0};
+            for (uint32_t t : *patch) {
+                const Tri& tri = mesh_.triangles[t];
+                const Vec n = cross(sub(mesh_.vertices[tri[1]], mesh_.vertices[tri[0]]),
+                                    sub(mesh_.vertices[tri[2]], mesh_.vertices[tri[0]]));
+                for (int a = 0; a < 3; ++a) normal[i][a] += n[a];
+            }
+            const double l = norm(normal[i]);
+            if (!(l > 0)) return;
+            for (double& n : normal[i]) n /= l;
+        }
+        // v: on both rings, on the face between the cells and the plane across the piece.
+        uint32_t v = UINT32_MAX;
+        double nearest = 1e-2 * h;
+        for (uint32_t r : rings[0]) {
+            const Vec& at = positions_[r];
+            if (std::fabs(at[between] - q[between]) > tolerance || std::fabs(at[along] - q[along]) > tolerance) continue;
+            if (std::find(rings[1].begin(), rings[1].end(), r) == rings[1].end()) continue;
+            if (norm(sub(at, q)) < nearest) nearest = norm(sub(at, q)), v = r;
+        }
+        if (v == UINT32_MAX || !(nearest > 0)) return;
+        const Vec d = sub(positions_[v], q);
+        // Into the ring of the cell whose normal is the more aligned with d.
+        // A tie (the prism's corner (-3.5, 0.5) between two 45° faces) goes to the upper cell, the
+        // same for every piece of the edge: round-off deciding it would put the two ends' short
+        // edges on different sides, and the sides' triangles would cross.
+        const double aligned[2] = {std::fabs(dot(normal[0], d)), std::fabs(dot(normal[1], d))};
+        const int into = aligned[0] > aligned[1] + 1e-6 * norm(d) ? 0 : 1;
+        const std::vector<uint32_t>& ring = rings[into];
+        const std::size_t n = ring.size();
+        const std::size_t at = std::size_t(std::find(ring.begin(), ring.end(), v) - ring.begin());
+        const Cell box = cell_box(cells[into]);
+        const auto cc = coords(cells[into]);
+        for (const uint32_t r : {ring[(at + n - 1) % n], ring[(at + 1) % n]}) {
+            if (std::fabs(positions_[r][along] - q[along]) > tolerance) continue;
+            const bool upper = q[along] == box.hi[along];
+            if (!upper && q[along] != box.lo[along]) return;
+            if (upper ? cc[along] + 1 >= uint64_t(cells_[along]) : cc[along] == 0) return;  // the domain's face
+            c.segment = {std::min(v, r), std::max(v, r)};
+            c.face = (upper ? cells[into] : cells[into] - stride(along)) * 3 + uint64_t(along);
+            return;
+        }
     }
 
     /// A corner in cell `id`: three independent operands of the operations that vanish there
@@ -1694,8 +1838,9 @@ private:
                     const Tri &x = triangles[s], &y = triangles[t];
                     for (int e = 0; e < 3; ++e)
                         if (segment_through_triangle(P[x[e]], P[x[(e + 1) % 3]], P[y[0]], P[y[1]], P[y[2]], eps) ||
-                            segment_through_triangle(P[y[e]], P[y[(e + 1) % 3]], P[x[0]], P[x[1]], P[x[2]], eps))
+                            segment_through_triangle(P[y[e]], P[y[(e + 1) % 3]], P[x[0]], P[x[1]], P[x[2]], eps)) {
                             return true;
+                        }
                 }
         return false;
     }
@@ -1751,7 +1896,6 @@ private:
                 return std::find(group->begin(), group->end(), two[0]) != group->end() &&
                        std::find(group->begin(), group->end(), two[1]) != group->end();
             });
-            if (apex_it == apex_.end()) return false;
         }
         if (crossings.empty() && apex_it == apex_.end()) return true;  // nothing to change
         if (!patch) return false;
@@ -1856,13 +2000,22 @@ private:
         } else {
             // The traced links cut the ring into polygons; crossings without a link stay ring vertices.
             std::vector<std::pair<std::size_t, std::size_t>> chords;
-            for (const auto& [a, b] : links_[id]) {
+            std::vector<std::pair<int, int>> links = links_[id];
+            if (group) {  // an edge group's: the links of all its cells
+                for (uint64_t g : *group)
+                    if (const auto more = links_.find(g); more != links_.end())
+                        links.insert(links.end(), more->second.begin(), more->second.end());
+                std::sort(links.begin(), links.end());
+                links.erase(std::unique(links.begin(), links.end()), links.end());
+            }
+            for (const auto& [a, b] : links) {
                 const auto ia = position.find(a), ib = position.find(b);
                 if (ia == position.end() || ib == position.end()) continue;
                 std::size_t i = std::min(ia->second, ib->second), j = std::max(ia->second, ib->second);
                 if (j - i < 2 || (i == 0 && j == m - 1)) return false;  // joins neighbours on the ring
                 const int shared = cell.faces_of(positions_[ring[i]], tolerance) & cell.faces_of(positions_[ring[j]], tolerance);
-                if (shared && !boundary_edge_free(id, shared)) return false;  // on a face another cell meshes
+                if (shared && !(group ? chord_free(*group, positions_[ring[i]], positions_[ring[j]]) : boundary_edge_free(id, shared)))
+                    return false;  // on a face another cell meshes
                 chords.push_back({i, j});
             }
             for (std::size_t x = 0; x < chords.size(); ++x)

@@ -352,6 +352,10 @@ struct Wedge {
     std::vector<uint64_t> seeds;  ///< the cells with triangles that hold a link into the tree
     std::array<std::pair<long, long>, 3> span;  ///< per axis, the cells the tree's points lie in
     int radius = 0;               ///< of the block tried last
+    /// Only grid nodes a curve passes diagonally: the cells around them alone (radius
+    /// 0), as a wider block would trade their marching-tetrahedra vertices for triangles cells
+    /// long (Steinmetz at 13 nodes: a third of the mesh's triangles).
+    bool around_nodes = false;
     Cell block;                   ///< the cells within `radius` of the span
     std::vector<uint64_t> cells;  ///< sorted: the cells with triangles joined, of the block
 };
@@ -1239,6 +1243,16 @@ private:
                 x.on_mesh_vertex = true;
                 continue;
             }
+            // A node the curve passes diagonally is no marching-tetrahedra vertex (theirs
+            // sit a thousandth of a cell off it), and put into one face's segment it folds the
+            // cells around it (the Steinmetz curve through (0.6, 0.8, 0.8) on cells of 0.2): it
+            // goes into no segment; as a wedge's node, the cells around it are redone together,
+            // cut along the curve through it (plan_wedges).
+            if (through_node_diagonally(int(index))) {
+                x.alive = false;
+                nodes_passed_.insert(int(index));
+                continue;
+            }
             // Of `candidates` that `usable` admits, the nearest that q can go into without folding
             // its face, else the nearest; of those equally near (a node is as near to the two
             // segments beside a marching-tetrahedra vertex), the one whose ends' normals differ
@@ -1313,6 +1327,26 @@ private:
                         if (link.second == k.of) link.second = id;
                     }
         }
+    }
+
+    /// Whether crossing x is a grid node the curve passes from one cell into the one across
+    /// it in all three axes (the two share only the node). Not where it touches grid planes
+    /// at the node (the Steinmetz curve at (0, 1, 1)): tried too, such nodes came out exact
+    /// on a segment and were lost as wedges on some lattices ([-1.5, 1.5]³ at 13 nodes).
+    bool through_node_diagonally(int x) const {
+        const Vec& q = positions_[crossings_[x].vertex];
+        for (int a = 0; a < 3; ++a)
+            if (plane_of(q, a) < 0) return false;
+        const auto partners = partners_.find(x);
+        if (partners == partners_.end()) return false;
+        for (int p : partners->second)
+            for (int r : partners->second) {
+                const Vec &u = positions_[crossings_[p].vertex], &v = positions_[crossings_[r].vertex];
+                bool opposite = true;
+                for (int a = 0; a < 3; ++a) opposite &= (u[a] - q[a]) * (v[a] - q[a]) < 0;
+                if (opposite) return true;
+            }
+        return false;
     }
 
     /// The boundary loop of a patch that is a disc, its inner vertices inside the cell.
@@ -1563,7 +1597,12 @@ private:
                         }
                 }
             }
-            if (!wedge.seeds.empty()) planned.push_back(std::move(wedge));
+            if (wedge.seeds.empty()) continue;
+            if (std::all_of(wedge.nodes.begin(), wedge.nodes.end(), [&](int n) { return nodes_passed_.count(n) > 0; })) {
+                wedge.around_nodes = true;
+                wedge.radius = -1;
+            }
+            planned.push_back(std::move(wedge));
         }
         // Trees that reach a tip take their cells first, larger blocks included (a tip has no
         // other way onto the mesh); the gaps in the middle of an edge wait until they are built.
@@ -1578,12 +1617,13 @@ private:
     }
 
     /// Joins the cells with triangles of wedge w's next larger block (one cell around the
-    /// tree's cells, then two, up to kMaxWedgeRadius) reached from its seeds across faces, so
+    /// tree's cells, then two, up to kMaxWedgeRadius; for a wedge around nodes only the tree's
+    /// cells) reached from its seeds across faces, so
     /// the joined patches are one piece of surface; false when none is left to try.
     bool group_wedge(std::size_t w) {
         Wedge& wedge = wedges_[w];
         wedge.cells.clear();
-        while (++wedge.radius <= kMaxWedgeRadius) {
+        while (++wedge.radius <= (wedge.around_nodes ? 0 : kMaxWedgeRadius)) {
             std::array<std::pair<long, long>, 3> range;
             for (int a = 0; a < 3; ++a) {
                 range[a] = {std::max(0L, wedge.span[a].first - wedge.radius),
@@ -1639,8 +1679,8 @@ private:
             for (int x : crossings_in(id)) {
                 if (on_ring.count(x)) continue;
                 if (crossings_[x].on_mesh_vertex) {
-                    on_ring.insert(x);
-                    continue;
+                    if (std::find(loop.begin(), loop.end(), crossings_[x].vertex) != loop.end()) on_ring.insert(x);
+                    continue;  // else inside: the tree may use it
                 }
                 const auto two = cells_of_face(crossings_[x].face);
                 if (in_group(two[0]) && in_group(two[1])) continue;  // inside: the tree may use it
@@ -1660,6 +1700,17 @@ private:
             }
         }
         const std::size_t m = ring.size();
+        // A live crossing off the ring lies inside the joined patch: on a face between two joined
+        // cells, or a marching-tetrahedra vertex all of whose cells with triangles are joined.
+        auto inside_joined = [&](int x) {
+            if (!crossings_[x].on_mesh_vertex) {
+                const auto two = cells_of_face(crossings_[x].face);
+                return in_group(two[0]) && in_group(two[1]);
+            }
+            for (uint64_t id : cells_around(positions_[crossings_[x].vertex]))
+                if (!in_group(id) && (!has_patch_ || has_patch_(id))) return false;
+            return true;
+        };
         // The tree: from its nodes through the crossings inside the joined cells, up to the
         // crossings on the ring (its leaves).
         std::set<int> inner, leaves;
@@ -1673,8 +1724,7 @@ private:
             } else if (on_ring.count(b)) {
                 leaves.insert(b);
             } else {
-                const auto two = cells_of_face(crossings_[b].face);
-                if (!in_group(two[0]) || !in_group(two[1])) return false;
+                if (!inside_joined(b)) return false;
                 inner.insert(b), stack.push_back(b);
             }
             return true;
@@ -1715,11 +1765,8 @@ private:
                     for (int x : {a, b}) {
                         if (inner.count(x) || leaves.count(x)) continue;
                         if (on_ring.count(x)) leaves.insert(x);
-                        else if (!crossings_[x].on_mesh_vertex && in_group(cells_of_face(crossings_[x].face)[0]) &&
-                                 in_group(cells_of_face(crossings_[x].face)[1]))
-                            inner.insert(x);
-                        else
-                            return false;
+                        else if (inside_joined(x)) inner.insert(x);
+                        else return false;
                     }
                 }
         std::map<int, int> piece;  // each point → its piece
@@ -2083,6 +2130,7 @@ private:
     /// Cells sharing a corner on the lattice (the solid on both sides of a grid plane through
     /// it), each mapped to all of them: fanned together, their shared faces inside the fan.
     std::map<uint64_t, std::vector<uint64_t>> groups_;
+    std::set<int> nodes_passed_;  ///< crossings at grid nodes the curve passes diagonally (three axes)
     std::unordered_map<int, std::vector<int>> partners_;  ///< each crossing's linked crossings, in any cell
     std::vector<uint32_t> tips_;                          ///< corners in cells with no triangles
     std::unordered_map<int, int> tip_crossings_;              ///< a crossing in a tip's cell → the tip

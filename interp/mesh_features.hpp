@@ -24,12 +24,17 @@
 // point is snapped exactly there and shared by every cell around it: each crossing goes into
 // one patch-boundary segment chosen once for all cells (and, where the curve passes a node
 // into a cell diagonally across, into one of that cell's too: the cell between takes the
-// vertex twice and is triangulated as two loops), and a corner the solid surrounds on both
-// sides of a grid plane is fanned over the joined patches of the cells around it.
+// vertex twice and is triangulated as two loops), a corner the solid surrounds on both
+// sides of a grid plane is fanned over the joined patches of the cells around it; the two
+// cells beside a piece of edge along a grid edge with the solid on both sides of a grid plane
+// through it are redone together, the face between them inside.
 // Features in cells marching tetrahedra left empty (an acute edge's wedge thinner than a cell,
 // a tip whose cell holds no node inside): their crossings and tips, joined by the traced links,
 // form a tree whose leaves are crossings on patches; the patches of a block of cells around it
 // are redone together, cut along the tree, so the surface reaches the edge and its corners.
+// A node the curve passes from one cell into the one across it in all three axes is such a
+// tree's node too, its block only the cells around it: no segment can take it without
+// folding those cells.
 #pragma once
 
 #include "interp/ir/ir.hpp"

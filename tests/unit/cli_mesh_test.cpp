@@ -59,10 +59,8 @@ void check_closed_solid(const test::MeshCheck& r) {
 }
 
 /// Meshes the case to PLY and checks it. `distance_cells`: the bound on both one-sided
-/// distances, in cells: half a cell on smooth surfaces; where the solid has sharp edges and
-/// corners, marching tetrahedra cut them off by up to a cell's half diagonal (√3/2 ≈ 0.87),
-/// since its vertices lie on grid edges; the feature pass puts most of them back, but keeps
-/// the cut where its tests fail (README "Meshes").
+/// distances, in cells: half a cell, on smooth surfaces and, with the feature pass putting
+/// sharp edges and corners back, on sharp solids too; kMarchingCut where the pass cannot.
 test::MeshCheck mesh_and_check(const Case& c, const test::ScratchDir& dir, double distance_cells = 0.5) {
     const std::string out = dir / (c.name + ".ply");
     const std::string domain = fmt::format("{}:{},{}:{},{}:{}", c.lo[0], c.hi[0], c.lo[1], c.hi[1], c.lo[2], c.hi[2]);
@@ -89,8 +87,10 @@ test::MeshCheck mesh_and_check(const Case& c, const test::ScratchDir& dir, doubl
     return r;
 }
 
-/// The distance bound on solids with sharp edges and corners, in cells (see mesh_and_check).
-constexpr double kSharp = 0.87;
+/// The distance bound, in cells, where marching tetrahedra's cut of a sharp edge stays (up to
+/// a cell's half diagonal, √3/2, as its vertices lie on grid edges): a part thinner than a
+/// cell, a corner in a cell with no node inside, a field that jumps (README "Meshes").
+constexpr double kMarchingCut = 0.87;
 
 const char* kBox = "ARGUMENT X, Y, Z;\nRETURN (1 - X^2) & (0.75^2 - Y^2) & (0.5^2 - Z^2);\n";
 const char* kSteinmetz = "ARGUMENT X, Y, Z;\nRETURN (1 - X^2 - Y^2) & (1 - X^2 - Z^2);\n";
@@ -104,6 +104,8 @@ std::string shared_script(const std::string& name) {
 }  // namespace
 
 TEST_CASE("meshes of sharp R-function solids are closed, oriented, intersection-free and on the surface") {
+    // Within half a cell, as smooth surfaces are: the feature pass puts the sharp edges and
+    // corners back (marching tetrahedra alone cut them by up to √3/2 of a cell).
     test::ScratchDir dir;
     const std::string box = dir.write("box.fortu", kBox);
     const std::string steinmetz = dir.write("steinmetz.fortu", kSteinmetz);
@@ -119,7 +121,7 @@ TEST_CASE("meshes of sharp R-function solids are closed, oriented, intersection-
     }());
     for (const std::string rsystem : {"r0", "alpha=0.5", "minmax"}) {
         SUBCASE(rsystem.c_str()) {
-            mesh_and_check({"box", box, {-1.3, -1.3, -1.3}, {1.3, 1.3, 1.3}, 27, rsystem}, dir, kSharp);
+            mesh_and_check({"box", box, {-1.3, -1.3, -1.3}, {1.3, 1.3, 1.3}, 27, rsystem}, dir);
             // Sharp features: the box's corners (on grid planes here: x = ±1, z = ±0.5) are vertices.
             const test::CheckedMesh written = test::read_binary_ply(dir / "box.ply");
             double worst = 0;
@@ -131,8 +133,8 @@ TEST_CASE("meshes of sharp R-function solids are closed, oriented, intersection-
                 worst = std::max(worst, best);
             }
             CHECK(worst <= 1e-9);
-            mesh_and_check({"steinmetz", steinmetz, {-1.3, -1.3, -1.3}, {1.3, 1.3, 1.3}, 33, rsystem}, dir, kSharp);
-            mesh_and_check({"prism", prism, {-5, -4, -3}, {8, 5, 3}, 33, rsystem}, dir, kSharp);
+            mesh_and_check({"steinmetz", steinmetz, {-1.3, -1.3, -1.3}, {1.3, 1.3, 1.3}, 33, rsystem}, dir);
+            mesh_and_check({"prism", prism, {-5, -4, -3}, {8, 5, 3}, 33, rsystem}, dir);
         }
     }
     mesh_and_check({"floz3_slab", slab, {-1.5, -1.5, -1.5}, {1.5, 1.5, 1.5}, 33, ""}, dir);
@@ -143,14 +145,15 @@ TEST_CASE("meshes of RANOK scripts on their header domains and of the 3D example
     // Half-extents from each script's first comment line (//x : 6.5 ; y : 6.5 ; z : 6.5).
     // Chainik's flutes use ARCTAN(Y/X), which jumps at X = 0: the sign changes there without a
     // zero, so the mesh has faces on the jump that no Newton projection reaches; its distances
-    // are not checked (-1), its topology is. The pawn's pieces meet in sharp rims (0.58 of a
-    // cell with --size 41 along its long axis, square cells).
+    // are not checked (-1), its topology is. The pawn's base thins to 0.44 at its rim (r = 3,
+    // between y = 0 and the cone above), under a cell of 0.45 at --size 41 along its long axis:
+    // its two sharp rims stay cut, 0.58 of a cell.
     const struct {
         const char* script;
         P3 half;
         double distance_cells;
-    } scripts[] = {{"Tor.fortu", {6.5, 6.5, 6.5}, 0.5},   {"Pawn.fortu", {4, 9, 4}, kSharp},
-                   {"Cub.fortu", {3.5, 3.5, 3.5}, kSharp}, {"TeaCup.fortu", {6, 5, 4.5}, 0.5},
+    } scripts[] = {{"Tor.fortu", {6.5, 6.5, 6.5}, 0.5},   {"Pawn.fortu", {4, 9, 4}, kMarchingCut},
+                   {"Cub.fortu", {3.5, 3.5, 3.5}, 0.5}, {"TeaCup.fortu", {6, 5, 4.5}, 0.5},
                    {"Chainik.fortu", {8, 5, 8}, -1}};
     for (const auto& s : scripts) {
         const std::string path = shared_script(s.script);
@@ -161,7 +164,7 @@ TEST_CASE("meshes of RANOK scripts on their header domains and of the 3D example
     const std::string examples = std::string(FORTU_SOURCE_DIR) + "/examples/";
     mesh_and_check({"pawn", examples + "pawn.fortu", {-4, -1, -4}, {4, 8, 4}, 41, ""}, dir);
     mesh_and_check({"singular_box", examples + "singular_box.fortu", {-1.25, -1.25, -1.25}, {1.25, 1.25, 1.25}, 26, ""},
-                   dir, kSharp);
+                   dir);
     mesh_and_check({"floz3_sphere80", examples + "floz3_sphere80.fortu", {-1.2, -1.2, -1.2}, {1.2, 1.2, 1.2}, 25, ""},
                    dir);
 }
@@ -413,12 +416,12 @@ double nearest_vertex(const P3& p, const test::CheckedMesh& mesh) {
 /// Meshes and checks the case, then asserts every corner is a vertex and every point of each
 /// straight edge (corners[a] to corners[b]) lies on mesh edges, to 1e-9 of the domain's size.
 void check_straight_edges(const test::ScratchDir& dir, const Case& c, const std::vector<P3>& corners,
-                          const std::vector<std::pair<int, int>>& edges) {
+                          const std::vector<std::pair<int, int>>& edges, double distance_cells = 0.5) {
     CAPTURE(c.name);
     CAPTURE(c.size);
     double size = 0, h = 0;
     for (int k = 0; k < 3; ++k) size = std::max(size, c.hi[k] - c.lo[k]), h = std::max(h, (c.hi[k] - c.lo[k]) / (c.size - 1));
-    mesh_and_check(c, dir, kSharp);
+    mesh_and_check(c, dir, distance_cells);
     const test::CheckedMesh mesh = test::read_binary_ply(dir / (c.name + ".ply"));
     double worst_corner = 0;
     for (const P3& corner : corners) worst_corner = std::max(worst_corner, nearest_vertex(corner, mesh));
@@ -472,7 +475,7 @@ TEST_CASE("sharp edges are chains of mesh edges through the traced curve, and co
                 const int nodes = 33;
                 const double size = 2.6, h = 2.6 / 32;
                 mesh_and_check({"steinmetz_chain", dir.write("steinmetz_chain.fortu", kSteinmetz), lo, hi, nodes, rsystem},
-                               dir, kSharp);
+                               dir);
                 const test::CheckedMesh mesh = test::read_binary_ply(dir / "steinmetz_chain.ply");
                 const Model model = load(dir / "steinmetz_chain.fortu", rsystem);
                 const PointEvaluator field(model.graph, model.root);
@@ -588,9 +591,10 @@ TEST_CASE("every 3D RANOK script, bear.vm and the FLOZ3 sphere mesh with no --do
              r.surface_to_mesh / h, " cells (", r.samples, " samples), normals wrong ", r.normals_wrong, "/", r.normals_checked);
         CHECK(r.triangles > 0);
         check_closed_solid(r);
-        // The bound in cells: half a cell where the surface is smooth; the sharp edges and
-        // corners the feature pass could not put back keep marching tetrahedra's cut (up to
-        // √3/2); parts thinner than a cell at 24 nodes are missed, up to 2.6 cells of surface
+        // The bound in cells: half a cell, smooth or sharp (the feature pass puts the edges
+        // back: Pawn 0.43, Bone 0.42 at most); where ARCTAN(Y/X) jumps across X = 0 (Tor1, Tor2,
+        // 0.78 and 0.65) the faces on the jump keep marching tetrahedra's cut (up to √3/2);
+        // parts thinner than a cell at 24 nodes are missed, up to 2.6 cells of surface
         // with no mesh: the blade of ConceptLopatka (also _b and new_lopatka, the same solid),
         // within 0.82 cells at 96 nodes, and a sheet of bear.vm a few thousandths thick (at
         // x = −0.34, its two faces 0.0015 apart with opposite normals), thinner than a cell even
@@ -601,10 +605,11 @@ TEST_CASE("every 3D RANOK script, bear.vm and the FLOZ3 sphere mesh with no --do
         const std::string name = std::filesystem::path(path).filename().string();
         const bool unmeasured = name.find("Chainik") != std::string::npos || name == "mytest.fortu" || name == "sphere_modul.fortu";
         const bool thin = name.find("ConceptLopatka") != std::string::npos || name == "new_lopatka.fortu" || name == "bear.vm";
+        const bool jumps = name == "Tor1.fortu" || name == "Tor2.fortu";
         if (!unmeasured) {
             worst = std::max(worst, std::max(r.mesh_to_surface, r.surface_to_mesh) / h);
-            CHECK(r.mesh_to_surface <= kSharp * h);
-            CHECK(r.surface_to_mesh <= (thin ? 4 : kSharp) * h);
+            CHECK(r.mesh_to_surface <= (jumps ? kMarchingCut : 0.5) * h);
+            CHECK(r.surface_to_mesh <= (thin ? 4 : jumps ? kMarchingCut : 0.5) * h);
         }
         ++meshed;
     }
@@ -643,7 +648,7 @@ TEST_CASE("sharp edges and corners on grid nodes, grid edges and cell faces stay
                 check_straight_edges(dir, {"prism_on_lattice", prism_path, {-5, -4, -3}, {8, 5, 3}, nodes, rsystem}, prism, prism_edges());
             check_straight_edges(dir, {"prism_on_lattice", prism_path, {-5, -4, -3}, {8, 5, 3}, 14, rsystem},
                                  {prism[0], prism[1], prism[2], prism[3], prism[5], prism[6], prism[7], prism[8]},
-                                 {{1, 2}, {5, 6}, {1, 5}, {2, 6}});
+                                 {{1, 2}, {5, 6}, {1, 5}, {2, 6}}, kMarchingCut);
             // Steinmetz on [-1.2, 1.2]³ at 13, 25 and 49 nodes and on [-1.5, 1.5]³ at 31: its
             // edges y = ±z pass through the nodes (±0.6, ±0.8, ±0.8) and (±0.8, ±0.6, ±0.6), from
             // one cell to the one across the node in all three axes (the two share only the
@@ -658,7 +663,7 @@ TEST_CASE("sharp edges and corners on grid nodes, grid edges and cell faces stay
                 CAPTURE(nodes);
                 const P3 lo{-half, -half, -half}, hi{half, half, half};
                 const double size = 2 * half, h = size / (nodes - 1);
-                mesh_and_check({"steinmetz_on_lattice", steinmetz, lo, hi, nodes, rsystem}, dir, kSharp);
+                mesh_and_check({"steinmetz_on_lattice", steinmetz, lo, hi, nodes, rsystem}, dir);
                 const test::CheckedMesh mesh = test::read_binary_ply(dir / "steinmetz_on_lattice.ply");
                 const Model model = load(steinmetz, rsystem);
                 const PointEvaluator field(model.graph, model.root);
@@ -693,5 +698,7 @@ TEST_CASE("triangles the sharp-feature pass joins across cells stay within half 
         test::check_mesh(test::read_binary_ply(out), PointEvaluator(model.graph, model.root), lattice.lo, lattice.hi, lattice.h);
     check_closed_solid(r);
     INFO("mesh->surface ", r.mesh_to_surface / lattice.h, " cells");
-    CHECK(r.mesh_to_surface <= kSharp * lattice.h);
+    // The whole mesh: marching tetrahedra's own triangles across bear.vm's folds thinner than a
+    // cell (near (−0.25, 0.32, 0.19)) have centroids 0.65 cells off the surface.
+    CHECK(r.mesh_to_surface <= kMarchingCut * lattice.h);
 }

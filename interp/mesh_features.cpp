@@ -564,9 +564,11 @@ public:
     void build(const std::function<std::optional<std::vector<uint32_t>>(uint64_t)>& patch_of, FeatureStats& stats) {
         for (uint64_t id : corner_cells_) find_corner(id);
         for (uint64_t id : end_cells_) find_corner(id);
+        cut_chains_at_corners();
         choose_segments(patch_of);
         plan_wedges();
         plan_edge_groups(patch_of);
+        plan_sheet_groups(patch_of);
         std::vector<uint64_t> queue;
         for (const auto& [id, apex] : apex_) queue.push_back(id);
         for (const auto& [id, cells] : groups_) queue.push_back(id);
@@ -980,6 +982,41 @@ private:
         }
     }
 
+    /// A cell whose patch is not one disc cannot take a link from one of its pieces to another:
+    /// where the solid in it is a strip along one face, across that face's Kuhn diagonal,
+    /// marching tetrahedra make two sheets, one at each end of the strip (the FLOZ3 plate's
+    /// 70.5° edge at 33 nodes, 1/12 of a cell above a grid plane, runs from one to the other).
+    /// Both sheets come through that face, so with the cell beyond it the joined patch is one
+    /// disc: the two cells are redone together, as an edge group's are.
+    void plan_sheet_groups(const std::function<std::optional<std::vector<uint32_t>>(uint64_t)>& patch_of) {
+        auto taken = [&](uint64_t id) { return groups_.count(id) || apex_.count(id) || wedge_of_.count(id); };
+        for (const auto& [id, links] : links_) {
+            if (links.empty() || taken(id)) continue;
+            const auto patch = patch_of(id);
+            std::vector<uint32_t> loop;
+            if (!patch || boundary_loop(*patch, cell_box(id), loop)) continue;
+            const auto c = coords(id);
+            for (int a = 0; a < 3 && !groups_.count(id); ++a)
+                for (int side = 0; side < 2; ++side) {
+                    if (side == 0 ? c[a] == 0 : c[a] + 1 >= uint64_t(cells_[a])) continue;
+                    const uint64_t other = side ? id + stride(a) : id - stride(a);
+                    if (taken(other)) continue;
+                    const auto more = patch_of(other);
+                    if (!more) continue;
+                    std::vector<uint32_t> joined = *patch;
+                    joined.insert(joined.end(), more->begin(), more->end());
+                    Cell box = cell_box(id);
+                    const Cell beyond = cell_box(other);
+                    for (int k = 0; k < 3; ++k) box.lo[k] = std::min(box.lo[k], beyond.lo[k]), box.hi[k] = std::max(box.hi[k], beyond.hi[k]);
+                    if (!boundary_loop(joined, box, loop)) continue;
+                    const std::vector<uint64_t> cells{std::min(id, other), std::max(id, other)};
+                    groups_[id] = cells;
+                    groups_[other] = cells;
+                    break;
+                }
+        }
+    }
+
     /// Crossing x at an end of an edge group's piece along axis `along` (cells: the two beside
     /// it) put into the segment of one cell's ring at the marching-tetrahedra vertex next to it
     /// in the grid plane across the piece: the cell whose surface is the more perpendicular to
@@ -1097,6 +1134,39 @@ private:
             tips_.push_back(uint32_t(positions_.size()));
             positions_.push_back(p);
             normals_.push_back(edge_normal(p, equations));
+        }
+    }
+
+    /// Drops a link the trace drew across a corner: where one operation's zero curve has a kink
+    /// at the corner (two edges of the solid: the FLOZ3 plate's edges from (-0.85, -1, -1.15)
+    /// up its vertical face and along its slab face are both where the slab face meets the
+    /// rest), the trace follows it across and joins the two edges' crossings by a chord that
+    /// cuts the corner off; 0.002 below a face (57 nodes) that chord lay on the face, where
+    /// the cell above cannot take it either. The corner's fan joins each of them to it.
+    void cut_chains_at_corners() {
+        const double h = lattice_h();
+        for (const auto& [id, apex] : apex_) {
+            const Vec& p = positions_[apex];
+            field_.at(p);
+            auto zero = [&](int e) {
+                const double g = norm(field_.gradient(e));
+                return std::fabs(field_.value(e)) <= 1e-9 * h * (1 + (std::isfinite(g) ? g : 0));
+            };
+            const std::vector<int> here = crossings_in(id);
+            for (int a : here) {
+                const auto& op = field_.operations()[std::size_t(crossings_[a].operation)];
+                if (!zero(op.a) || !zero(op.b)) continue;
+                const std::vector<int> partners = partners_[a];
+                for (int b : partners) {
+                    if (b < a || crossings_[b].operation != crossings_[a].operation ||
+                        !std::binary_search(here.begin(), here.end(), b))
+                        continue;
+                    const std::pair<int, int> link{a, b};
+                    for (auto& [cell, list] : links_) std::erase(list, link);
+                    std::erase(partners_[a], b);
+                    std::erase(partners_[b], a);
+                }
+            }
         }
     }
 
@@ -1951,32 +2021,45 @@ private:
         if (!boundary_loop(*patch, cell, loop)) return false;
         const std::size_t n = loop.size();
 
-        // Each crossing goes into the boundary segment chosen for it (choose_segments).
-        std::vector<int> insert(n, -1);
+        // Each crossing goes into the boundary segment chosen for it (choose_segments); two
+        // may share one (two edges leaving a corner just past the face: the FLOZ3 plate's at
+        // 57 nodes, 0.002 below it), in their order along it, which the neighbour walking the
+        // segment the other way meets reversed: the same boundary.
+        std::vector<std::vector<int>> insert(n);
         for (int x : crossings) {
             if (crossings_[x].on_mesh_vertex) continue;
             const std::size_t at = segment_index(loop, crossings_[x].segment);
-            if (at == n || insert[at] >= 0) return false;
-            insert[at] = x;
+            if (at == n) return false;
+            insert[at].push_back(x);
+        }
+        std::vector<std::vector<Vec>> pieces(n);  // each segment with its crossings in
+        for (std::size_t i = 0; i < n; ++i) {
+            const Vec &a = positions_[loop[i]], &b = positions_[loop[(i + 1) % n]];
+            const Vec ab = sub(b, a);
+            std::sort(insert[i].begin(), insert[i].end(), [&](int x, int y) {
+                return dot(sub(positions_[crossings_[x].vertex], a), ab) < dot(sub(positions_[crossings_[y].vertex], a), ab);
+            });
+            pieces[i].push_back(a);
+            for (int x : insert[i]) pieces[i].push_back(positions_[crossings_[x].vertex]);
+            pieces[i].push_back(b);
         }
         // The face's boundary with the crossings in must not cross itself (the neighbour sees it).
         for (std::size_t i = 0; i < n; ++i) {
-            if (insert[i] < 0) continue;
-            const int axis = int(crossings_[insert[i]].face % 3);
-            const Vec& q = positions_[crossings_[insert[i]].vertex];
+            if (insert[i].empty()) continue;
+            const int axis = int(crossings_[insert[i].front()].face % 3);
+            const double plane = positions_[crossings_[insert[i].front()].vertex][axis];
             const int u = axis == 0 ? 1 : 0, w = axis == 2 ? 1 : 2;
             auto flat = [&](const Vec& p) { return std::array<double, 2>{p[u], p[w]}; };
-            const Vec &a = positions_[loop[i]], &b = positions_[loop[(i + 1) % n]];
             for (std::size_t j = 0; j < n; ++j) {
-                if (j == i) continue;
                 const Vec &c = positions_[loop[j]], &d = positions_[loop[(j + 1) % n]];
-                if (std::fabs(c[axis] - q[axis]) > tolerance || std::fabs(d[axis] - q[axis]) > tolerance) continue;
-                std::vector<Vec> pieces{c, d};
-                if (insert[j] >= 0) pieces = {c, positions_[crossings_[insert[j]].vertex], d};
-                for (std::size_t p = 0; p + 1 < pieces.size(); ++p)
-                    if (segments_cross_2d(flat(a), flat(q), flat(pieces[p]), flat(pieces[p + 1]), 1e-12 * h * h) ||
-                        segments_cross_2d(flat(q), flat(b), flat(pieces[p]), flat(pieces[p + 1]), 1e-12 * h * h))
-                        return false;
+                if (std::fabs(c[axis] - plane) > tolerance || std::fabs(d[axis] - plane) > tolerance) continue;
+                for (std::size_t p = 0; p + 1 < pieces[i].size(); ++p)
+                    for (std::size_t r = 0; r + 1 < pieces[j].size(); ++r) {
+                        if (j == i && (r == p || r + 1 == p || p + 1 == r)) continue;  // itself, or its neighbours
+                        if (segments_cross_2d(flat(pieces[i][p]), flat(pieces[i][p + 1]), flat(pieces[j][r]),
+                                              flat(pieces[j][r + 1]), 1e-12 * h * h))
+                            return false;
+                    }
             }
         }
         std::vector<uint32_t> ring;
@@ -1985,9 +2068,9 @@ private:
             for (int x : crossings)
                 if (crossings_[x].on_mesh_vertex && crossings_[x].vertex == loop[i]) position[x] = ring.size();
             ring.push_back(loop[i]);
-            if (insert[i] >= 0) {
-                position[insert[i]] = ring.size();
-                ring.push_back(crossings_[insert[i]].vertex);
+            for (int x : insert[i]) {
+                position[x] = ring.size();
+                ring.push_back(crossings_[x].vertex);
             }
         }
         const std::size_t m = ring.size();

@@ -27,7 +27,9 @@
 // vertex twice and is triangulated as two loops), a corner the solid surrounds on both
 // sides of a grid plane is fanned over the joined patches of the cells around it; the two
 // cells beside a piece of edge along a grid edge with the solid on both sides of a grid plane
-// through it are redone together, the face between them inside.
+// through it are redone together, the face between them inside; so is a cell whose patch is
+// two sheets (a strip of solid along a face, split by its Kuhn diagonal) with the cell beyond
+// that face. A face segment may take several crossings, in their order along it.
 // Features in cells marching tetrahedra left empty (an acute edge's wedge thinner than a cell,
 // a tip whose cell holds no node inside): their crossings and tips, joined by the traced links,
 // form a tree whose leaves are crossings on patches; the patches of a block of cells around it

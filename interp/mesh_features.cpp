@@ -352,9 +352,9 @@ struct Wedge {
     std::vector<uint64_t> seeds;  ///< the cells with triangles that hold a link into the tree
     std::array<std::pair<long, long>, 3> span;  ///< per axis, the cells the tree's points lie in
     int radius = 0;               ///< of the block tried last
-    /// Only grid nodes a curve passes diagonally: the cells around them alone (radius
-    /// 0), as a wider block would trade their marching-tetrahedra vertices for triangles cells
-    /// long (Steinmetz at 13 nodes: a third of the mesh's triangles).
+    /// Only grid nodes a curve passes diagonally: the cells around them alone (radius 0), as a
+    /// wider block would trade their marching-tetrahedra vertices for triangles cells long
+    /// (Steinmetz at 13 nodes: a third of the mesh's triangles).
     bool around_nodes = false;
     Cell block;                   ///< the cells within `radius` of the span
     std::vector<uint64_t> cells;  ///< sorted: the cells with triangles joined, of the block
@@ -1688,8 +1688,8 @@ private:
 
     /// Joins the cells with triangles of wedge w's next larger block (one cell around the
     /// tree's cells, then two, up to kMaxWedgeRadius; for a wedge around nodes only the tree's
-    /// cells) reached from its seeds across faces, so
-    /// the joined patches are one piece of surface; false when none is left to try.
+    /// cells) reached from its seeds across faces, so the joined patches are one piece of
+    /// surface; false when none is left to try.
     bool group_wedge(std::size_t w) {
         Wedge& wedge = wedges_[w];
         wedge.cells.clear();
@@ -1955,9 +1955,8 @@ private:
                     const Tri &x = triangles[s], &y = triangles[t];
                     for (int e = 0; e < 3; ++e)
                         if (segment_through_triangle(P[x[e]], P[x[(e + 1) % 3]], P[y[0]], P[y[1]], P[y[2]], eps) ||
-                            segment_through_triangle(P[y[e]], P[y[(e + 1) % 3]], P[x[0]], P[x[1]], P[x[2]], eps)) {
+                            segment_through_triangle(P[y[e]], P[y[(e + 1) % 3]], P[x[0]], P[x[1]], P[x[2]], eps))
                             return true;
-                        }
                 }
         return false;
     }
@@ -2131,7 +2130,7 @@ private:
             // The traced links cut the ring into polygons; crossings without a link stay ring vertices.
             std::vector<std::pair<std::size_t, std::size_t>> chords;
             std::vector<std::pair<int, int>> links = links_[id];
-            if (group) {  // an edge group's: the links of all its cells
+            if (group) {  // a group's: the links of all its cells
                 for (uint64_t g : *group)
                     if (const auto more = links_.find(g); more != links_.end())
                         links.insert(links.end(), more->second.begin(), more->second.end());
@@ -2210,8 +2209,10 @@ private:
     std::set<uint64_t> end_cells_, tried_corner_;
     std::function<bool(uint64_t)> has_patch_;
     std::set<uint64_t> edge_apex_tried_;
-    /// Cells sharing a corner on the lattice (the solid on both sides of a grid plane through
-    /// it), each mapped to all of them: fanned together, their shared faces inside the fan.
+    /// Cells redone together, each mapped to all of them, their shared faces inside: around a
+    /// corner on the lattice (the solid on both sides of a grid plane through it, fanned from
+    /// it), beside a piece of edge on a face between two cells (plan_edge_groups), a cell of
+    /// two sheets with the cell beyond them (plan_sheet_groups).
     std::map<uint64_t, std::vector<uint64_t>> groups_;
     std::set<int> nodes_passed_;  ///< crossings at grid nodes the curve passes diagonally (three axes)
     std::unordered_map<int, std::vector<int>> partners_;  ///< each crossing's linked crossings, in any cell

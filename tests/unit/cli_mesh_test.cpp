@@ -596,8 +596,8 @@ TEST_CASE("every 3D RANOK script, bear.vm and the FLOZ3 sphere mesh with no --do
         CHECK(r.triangles > 0);
         check_closed_solid(r);
         // The bound in cells: half a cell, smooth or sharp (the feature pass puts the edges
-        // back: Pawn 0.43, Bone 0.42 at most); where ARCTAN(Y/X) jumps across X = 0 (Tor1, Tor2,
-        // 0.78 and 0.65) the faces on the jump keep marching tetrahedra's cut (up to √3/2);
+        // back: Pawn 0.43, Bone 0.42 at most); Tor1 and Tor2, whose ARCTAN(Y/X) jumps across
+        // X = 0 and twists their tubes five times around, reach 0.78 and 0.65 (up to √3/2);
         // parts thinner than a cell at 24 nodes are missed, up to 2.6 cells of surface
         // with no mesh: the blade of ConceptLopatka (also _b and new_lopatka, the same solid),
         // within 0.82 cells at 96 nodes, and a sheet of bear.vm a few thousandths thick (at

@@ -566,7 +566,9 @@ public:
         for (uint64_t id : end_cells_) find_corner(id);
         cut_chains_at_corners();
         choose_segments(patch_of);
+        corners_into_trees();
         plan_wedges();
+        restore_unplanned_corners();
         plan_edge_groups(patch_of);
         plan_sheet_groups(patch_of);
         std::vector<uint64_t> queue;
@@ -608,6 +610,8 @@ public:
                     for (uint64_t g : cells) wedge_of_.erase(g), pending.insert(g);  // each on its own
                     if (group_wedge(index))  // or a larger block
                         for (uint64_t g : wedges_[index].cells) pending.insert(g);
+                    else
+                        for (uint64_t g : restore_corners(wedges_[index])) pending.insert(g);
                     continue;
                 }
                 if (const auto group = groups_.find(id); group != groups_.end()) {
@@ -1168,6 +1172,53 @@ private:
                 }
             }
         }
+    }
+
+    /// A corner in a cell with triangles at the end of an edge whose cells have none (the FLOZ3
+    /// plate's 70.5° edge y = -1 at 21 nodes, 0.05 of a cell below a grid plane): that edge's
+    /// tree would take a block around the corner's cell, which the corner's fan keeps out, so
+    /// the joined patch would have a hole. Such a corner joins the tree as a tip instead, its
+    /// cell in the block (the edges from it are pieces of their own there); restored to its
+    /// fan if no block of the tree can be redone.
+    void corners_into_trees() {
+        std::map<uint32_t, std::vector<uint64_t>> cells_of;
+        for (const auto& [id, apex] : apex_) cells_of[apex].push_back(id);
+        for (const auto& [vertex, cells] : cells_of) {
+            if (cells.size() != 1) continue;  // a corner on the lattice, fanned over its cells
+            const uint64_t id = cells.front();
+            const Cell cell = cell_box(id);
+            bool beside = false;  // a crossing with no segment on the cell's faces
+            for (std::size_t x = 0; x < crossings_.size() && !beside; ++x)
+                beside = !crossings_[x].alive && !nodes_passed_.count(int(x)) &&
+                         cell.contains(positions_[crossings_[x].vertex], 1e-9 * cell.h) &&
+                         norm(sub(positions_[crossings_[x].vertex], positions_[vertex])) > 1e-9 * cell.h;
+            if (!beside) continue;
+            corner_tips_[-1 - int(tips_.size())] = {id, vertex};
+            tips_.push_back(vertex);
+            apex_.erase(id);
+        }
+    }
+
+    /// The corners made tips whose tree found no block: back to their fans.
+    void restore_unplanned_corners() {
+        std::set<int> planned;
+        for (const Wedge& wedge : wedges_)
+            if (!wedge.cells.empty())
+                for (int n : wedge.nodes) planned.insert(n);
+        for (const auto& [tip, corner] : corner_tips_)
+            if (!planned.count(tip)) apex_[corner.first] = corner.second;
+    }
+
+    /// Wedge w's corners made tips back to their fans, when no block of it can be redone;
+    /// returns their cells.
+    std::vector<uint64_t> restore_corners(const Wedge& wedge) {
+        std::vector<uint64_t> cells;
+        for (int n : wedge.nodes)
+            if (const auto it = corner_tips_.find(n); it != corner_tips_.end()) {
+                apex_[it->second.first] = it->second.second;
+                cells.push_back(it->second.first);
+            }
+        return cells;
     }
 
     /// For a cell whose crossings cannot be joined by edges (the boundary split along them
@@ -2215,8 +2266,9 @@ private:
     /// two sheets with the cell beyond them (plan_sheet_groups).
     std::map<uint64_t, std::vector<uint64_t>> groups_;
     std::set<int> nodes_passed_;  ///< crossings at grid nodes the curve passes diagonally (three axes)
+    std::map<int, std::pair<uint64_t, uint32_t>> corner_tips_;  ///< a tip that was a corner's fan → its cell, vertex
     std::unordered_map<int, std::vector<int>> partners_;  ///< each crossing's linked crossings, in any cell
-    std::vector<uint32_t> tips_;                          ///< corners in cells with no triangles
+    std::vector<uint32_t> tips_;  ///< corners in cells with no triangles, and those that joined a tree
     std::unordered_map<int, int> tip_crossings_;              ///< a crossing in a tip's cell → the tip
     std::unordered_map<int, std::vector<int>> crossings_of_tip_;
     std::unordered_map<int, int> tip_at_;  ///< a crossing where a tip is → the tip

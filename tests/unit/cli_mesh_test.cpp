@@ -500,12 +500,13 @@ TEST_CASE("sharp edges are chains of mesh edges through the traced curve, and co
             // two corners are redone together (README "Meshes", acute edges and tips); so are the
             // cells around the crossings of the other edges that found no segment (in the middle
             // of an edge). At 37 nodes the 39° edge's cells are all empty and it is traced from
-            // the patches beside it. All six corners and all nine edges exact at 33, 37, 41, 45,
-            // 57 and 65 nodes; at 29 the edge from corner 0 into (0.85, 0, 1.15) is not, over its
-            // first 4% (README "Meshes", "Not yet"). At 33 the 70.5° edge y = 1 runs 1/12 of a
+            // the patches beside it. All six corners and all nine edges exact at 21, 33, 37, 41,
+            // 45, 57 and 65 nodes; at 29 the edge from corner 0 into (0.85, 0, 1.15) is not, over
+            // its first 4% (README "Meshes", "Not yet"). At 33 the 70.5° edge y = 1 runs 1/12 of a
             // cell above a grid plane, in cells whose patch is two sheets (each redone with the
             // cell below it); at 57 its mirror y = -1 has both corners 0.002 below a grid plane,
-            // the edges leaving them crossing it through one segment each time.
+            // the edges leaving them crossing it through one segment each time; at 21 that edge's
+            // cells are empty, and a corner at its end joins its tree as a tip.
             const std::string plate = dir.write("floz3_plate.fortu",
                                                 "ARGUMENT X, Y, Z;\nRETURN (2 - X - 4*Y - Z) & (X + Z + 2) & (2 - X + 4*Y - Z) & "
                                                 "(0.3 - Z + X) & (0.3 + Z - X);\n");
@@ -514,6 +515,7 @@ TEST_CASE("sharp edges are chains of mesh edges through the traced curve, and co
             const std::vector<std::pair<int, int>> all_plate_edges{{0, 1}, {2, 3}, {0, 2}, {1, 3}, {4, 5},
                                                                    {0, 4}, {2, 4}, {1, 5}, {3, 5}};
             const std::vector<std::pair<int, std::vector<std::pair<int, int>>>> plate_edges{
+                {21, all_plate_edges},
                 {29, {{0, 1}, {2, 3}, {0, 2}, {1, 3}, {4, 5}, {2, 4}, {1, 5}, {3, 5}}},
                 {33, all_plate_edges},
                 {37, all_plate_edges},

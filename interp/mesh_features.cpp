@@ -1181,18 +1181,21 @@ private:
     /// cell in the block (the edges from it are pieces of their own there); restored to its
     /// fan if no block of the tree can be redone.
     void corners_into_trees() {
+        std::map<uint64_t, std::vector<Vec>> beside;  // a cell → the crossings with no segment on its faces
+        for (std::size_t x = 0; x < crossings_.size(); ++x)
+            if (!crossings_[x].alive && !nodes_passed_.count(int(x)))
+                for (uint64_t id : cells_around(positions_[crossings_[x].vertex]))
+                    if (apex_.count(id)) beside[id].push_back(positions_[crossings_[x].vertex]);
         std::map<uint32_t, std::vector<uint64_t>> cells_of;
         for (const auto& [id, apex] : apex_) cells_of[apex].push_back(id);
         for (const auto& [vertex, cells] : cells_of) {
             if (cells.size() != 1) continue;  // a corner on the lattice, fanned over its cells
             const uint64_t id = cells.front();
-            const Cell cell = cell_box(id);
-            bool beside = false;  // a crossing with no segment on the cell's faces
-            for (std::size_t x = 0; x < crossings_.size() && !beside; ++x)
-                beside = !crossings_[x].alive && !nodes_passed_.count(int(x)) &&
-                         cell.contains(positions_[crossings_[x].vertex], 1e-9 * cell.h) &&
-                         norm(sub(positions_[crossings_[x].vertex], positions_[vertex])) > 1e-9 * cell.h;
-            if (!beside) continue;
+            const auto it = beside.find(id);
+            if (it == beside.end() || std::none_of(it->second.begin(), it->second.end(), [&](const Vec& p) {
+                    return norm(sub(p, positions_[vertex])) > 1e-9 * lattice_h();  // not the corner itself
+                }))
+                continue;
             corner_tips_[-1 - int(tips_.size())] = {id, vertex};
             tips_.push_back(vertex);
             apex_.erase(id);

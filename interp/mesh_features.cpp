@@ -183,6 +183,13 @@ bool min_norm_step(const std::vector<Vec>& rows, const std::vector<double>& rhs,
     return true;
 }
 
+/// Whether output e of `field`, evaluated, is zero to round-off: within 1e-9 of the cell h,
+/// scaled by its slope.
+bool vanishes(const FeatureField& field, int e, double h) {
+    const double g = norm(field.gradient(e));
+    return std::fabs(field.value(e)) <= 1e-9 * h * (1 + (std::isfinite(g) ? g : 0));
+}
+
 /// Newton's method from p onto the common zero of `want` (2 or 3) of `equations` (outputs of
 /// `field`), chosen afresh at each step, in order, as the first independent ones: the
 /// minimum-norm step s = Jᵀ(JJᵀ)⁻¹F, as `fortu singular` takes onto an edge (for 3, the plain
@@ -211,10 +218,8 @@ bool solve_feature(FeatureField& field, const std::vector<int>& equations, int w
         if (!finite(p) || norm(sub(p, start)) > reach) return false;
         if (norm(step) <= kStepTolerance * h) {
             field.at(p);
-            for (int e : equations) {
-                const double g = norm(field.gradient(e));
-                if (!(std::fabs(field.value(e)) <= 1e-9 * h * (1 + (std::isfinite(g) ? g : 0)))) return false;
-            }
+            for (int e : equations)
+                if (!vanishes(field, e, h)) return false;
             return true;
         }
     }
@@ -396,6 +401,16 @@ public:
         return cell;
     }
 
+    /// The box of `cells` together.
+    Cell joined_box(const std::vector<uint64_t>& cells) const {
+        Cell box = cell_box(cells.front());
+        for (uint64_t id : cells) {
+            const Cell other = cell_box(id);
+            for (int a = 0; a < 3; ++a) box.lo[a] = std::min(box.lo[a], other.lo[a]), box.hi[a] = std::max(box.hi[a], other.hi[a]);
+        }
+        return box;
+    }
+
     /// Which cells have triangles (a patch): edges lying on the lattice may be joined only in
     /// cells whose neighbours across that face or grid edge have none.
     void set_patch_test(std::function<bool(uint64_t)> has_patch) { has_patch_ = std::move(has_patch); }
@@ -489,14 +504,20 @@ public:
         return true;
     }
 
+    /// The cells whose closed box holds both p and q.
+    std::vector<uint64_t> cells_holding(const Vec& p, const Vec& q) const {
+        const std::vector<uint64_t> other = cells_around(q);
+        std::vector<uint64_t> out;
+        for (uint64_t cell : cells_around(p))
+            if (std::find(other.begin(), other.end(), cell) != other.end()) out.push_back(cell);
+        return out;
+    }
+
     /// Whether a group's new edge from p to q touches no cell outside the group that has
     /// triangles (every cell whose closed box holds both ends).
     bool chord_free(const std::vector<uint64_t>& group, const Vec& p, const Vec& q) const {
-        const std::vector<uint64_t> other = cells_around(q);
-        for (uint64_t cell : cells_around(p))
-            if (std::find(other.begin(), other.end(), cell) != other.end() &&
-                std::find(group.begin(), group.end(), cell) == group.end() && has_patch_ && has_patch_(cell))
-                return false;
+        for (uint64_t cell : cells_holding(p, q))
+            if (std::find(group.begin(), group.end(), cell) == group.end() && has_patch_ && has_patch_(cell)) return false;
         return true;
     }
 
@@ -810,10 +831,7 @@ private:
         const std::pair<int, int> link{std::min(a, b), std::max(a, b)};
         if (std::find(partners_[a].begin(), partners_[a].end(), b) == partners_[a].end())
             partners_[a].push_back(b), partners_[b].push_back(a);
-        std::vector<uint64_t> near = cells_around(positions_[crossings_[a].vertex]);
-        const std::vector<uint64_t> other = cells_around(positions_[crossings_[b].vertex]);
-        for (uint64_t cell : near) {
-            if (std::find(other.begin(), other.end(), cell) == other.end()) continue;
+        for (uint64_t cell : cells_holding(positions_[crossings_[a].vertex], positions_[crossings_[b].vertex])) {
             if (has_patch_ && !has_patch_(cell)) continue;
             auto& list = links_[cell];
             if (std::find(list.begin(), list.end(), link) == list.end()) list.push_back(link);
@@ -918,6 +936,18 @@ private:
         return first;
     }
 
+    /// The axis of the grid line p and q both lie on (the same grid plane in the two other
+    /// axes), or -1.
+    int grid_edge_axis(const Vec& p, const Vec& q) const {
+        int along = -1, shared = 0;
+        for (int axis = 0; axis < 3; ++axis) {
+            const long k = plane_of(p, axis);
+            if (k >= 0 && k == plane_of(q, axis)) ++shared;
+            else along = axis;
+        }
+        return shared == 2 ? along : -1;
+    }
+
     /// A piece of edge along a grid edge with the solid on both sides of a grid plane through
     /// it (the pentagon prism's vertical edges at x = 0 on cells of 0.5): the two cells beside
     /// that plane both have triangles, and the piece lies on the face between them, so neither
@@ -930,17 +960,9 @@ private:
         for (const auto& [id, links] : links_)
             for (const auto& [a, b] : links) {
                 const Vec &p = positions_[crossings_[a].vertex], &q = positions_[crossings_[b].vertex];
-                int along_planes = 0;
-                for (int axis = 0; axis < 3; ++axis) {
-                    const long k = plane_of(p, axis);
-                    along_planes += k >= 0 && k == plane_of(q, axis);
-                }
-                if (along_planes != 2) continue;
-                std::vector<uint64_t> cells;
-                const std::vector<uint64_t> other = cells_around(q);
-                for (uint64_t cell : cells_around(p))
-                    if (std::find(other.begin(), other.end(), cell) != other.end() && (!has_patch_ || has_patch_(cell)))
-                        cells.push_back(cell);
+                if (grid_edge_axis(p, q) < 0) continue;
+                std::vector<uint64_t> cells = cells_holding(p, q);
+                std::erase_if(cells, [&](uint64_t cell) { return has_patch_ && !has_patch_(cell); });
                 if (cells.size() != 2) continue;
                 std::sort(cells.begin(), cells.end());
                 const auto c0 = coords(cells[0]), c1 = coords(cells[1]);
@@ -972,16 +994,10 @@ private:
             for (uint64_t g : cells)
                 if (const auto links = links_.find(g); links != links_.end())
                     for (const auto& [a, b] : links->second) {
-                        const Vec &p = positions_[crossings_[a].vertex], &q = positions_[crossings_[b].vertex];
-                        int across = -1, on_planes = 0;
-                        for (int axis = 0; axis < 3; ++axis) {
-                            const long k = plane_of(p, axis);
-                            if (k >= 0 && k == plane_of(q, axis)) ++on_planes;
-                            else across = axis;
-                        }
-                        if (on_planes != 2) continue;
+                        const int along = grid_edge_axis(positions_[crossings_[a].vertex], positions_[crossings_[b].vertex]);
+                        if (along < 0) continue;
                         for (int x : {a, b})
-                            if (placed.insert(x).second) place_across_piece(x, across, cells, patch_of);
+                            if (placed.insert(x).second) place_across_piece(x, along, cells, patch_of);
                     }
         }
     }
@@ -1009,11 +1025,8 @@ private:
                     if (!more) continue;
                     std::vector<uint32_t> joined = *patch;
                     joined.insert(joined.end(), more->begin(), more->end());
-                    Cell box = cell_box(id);
-                    const Cell beyond = cell_box(other);
-                    for (int k = 0; k < 3; ++k) box.lo[k] = std::min(box.lo[k], beyond.lo[k]), box.hi[k] = std::max(box.hi[k], beyond.hi[k]);
-                    if (!boundary_loop(joined, box, loop)) continue;
                     const std::vector<uint64_t> cells{std::min(id, other), std::max(id, other)};
+                    if (!boundary_loop(joined, joined_box(cells), loop)) continue;
                     groups_[id] = cells;
                     groups_[other] = cells;
                     break;
@@ -1152,14 +1165,10 @@ private:
         for (const auto& [id, apex] : apex_) {
             const Vec& p = positions_[apex];
             field_.at(p);
-            auto zero = [&](int e) {
-                const double g = norm(field_.gradient(e));
-                return std::fabs(field_.value(e)) <= 1e-9 * h * (1 + (std::isfinite(g) ? g : 0));
-            };
             const std::vector<int> here = crossings_in(id);
             for (int a : here) {
                 const auto& op = field_.operations()[std::size_t(crossings_[a].operation)];
-                if (!zero(op.a) || !zero(op.b)) continue;
+                if (!vanishes(field_, op.a, h) || !vanishes(field_, op.b, h)) continue;
                 const std::vector<int> partners = partners_[a];
                 for (int b : partners) {
                     if (b < a || crossings_[b].operation != crossings_[a].operation ||
@@ -1639,13 +1648,9 @@ private:
             const int tip = -1 - int(t);
             const Vec& p = positions_[tips_[t]];
             field_.at(p);
-            auto zero = [&](int e) {
-                const double g = norm(field_.gradient(e));
-                return std::fabs(field_.value(e)) <= 1e-9 * h * (1 + (std::isfinite(g) ? g : 0));
-            };
             std::vector<char> through(field_.operations().size(), 0);
             for (std::size_t k = 0; k < through.size(); ++k)
-                through[k] = zero(field_.operations()[k].a) && zero(field_.operations()[k].b);
+                through[k] = vanishes(field_, field_.operations()[k].a, h) && vanishes(field_, field_.operations()[k].b, h);
             // A chain that passes the tip (the trace crossed the kink there) is cut at it: the
             // link through its cell becomes two edges into the tip.
             const std::vector<uint64_t> tip_cells = cells_around(p);
@@ -1856,10 +1861,8 @@ private:
         // A link counts if it lies in a joined cell or in one with no triangles.
         auto inside = [&](int a, int b) {
             if (a < 0 || b < 0) return true;
-            const std::vector<uint64_t> near = cells_around(positions_[crossings_[a].vertex]);
-            for (uint64_t id : cells_around(positions_[crossings_[b].vertex]))
-                if (std::find(near.begin(), near.end(), id) != near.end() && (in_group(id) || (has_patch_ && !has_patch_(id))))
-                    return true;
+            for (uint64_t id : cells_holding(positions_[crossings_[a].vertex], positions_[crossings_[b].vertex]))
+                if (in_group(id) || (has_patch_ && !has_patch_(id))) return true;
             return false;
         };
         for (int a : wedge.nodes)
@@ -2049,12 +2052,10 @@ private:
                     const std::vector<uint64_t>* group = nullptr) {
         std::vector<int> crossings = crossings_in(id);
         const auto apex_it = apex_.find(id);
-        Cell cell = cell_box(id);
+        const Cell cell = group ? joined_box(*group) : cell_box(id);
         if (group) {
-            // The cells' joined box; crossings on the faces between them are inside the fan.
+            // Crossings on the faces between the cells are inside the fan.
             for (uint64_t g : *group) {
-                const Cell other = cell_box(g);
-                for (int a = 0; a < 3; ++a) cell.lo[a] = std::min(cell.lo[a], other.lo[a]), cell.hi[a] = std::max(cell.hi[a], other.hi[a]);
                 const std::vector<int> more = crossings_in(g);
                 crossings.insert(crossings.end(), more.begin(), more.end());
             }

@@ -645,7 +645,7 @@ public:
                         if (!patch) all = false;
                         else joined.insert(joined.end(), patch->begin(), patch->end());
                     }
-                    for (uint64_t g : cells) results_.erase(g);
+                    for (uint64_t g : cells) results_.erase(g), pending.erase(g);  // built once for all
                     if (all && build_cell(cells.front(), &joined, triangles, &cells)) {
                         results_[cells.front()] = {std::move(joined), std::move(triangles)};
                         continue;

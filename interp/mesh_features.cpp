@@ -50,8 +50,9 @@ constexpr double kFeatureCosine = 0.9;
 /// within twice the cell's half diagonal (curved operands reach a little further).
 constexpr double kReachFactor = 2.0;
 /// A new triangle's area, in cell², at least: STL's float32 rounding (6e-8 relative) must
-/// not make it degenerate, nor flip its projection.
-constexpr double kMinArea = 1e-4;
+/// not make it degenerate, nor flip its projection. Not more: a corner 1/50 of a cell past a
+/// grid plane has a fan with triangles of 6e-5 cell² (the FLOZ3 plate on 16 nodes).
+constexpr double kMinArea = 1e-5;
 constexpr double kMinProjectedArea = 1e-6;
 /// The same bounds for the triangles of a cell an edge crosses: an edge that passes within
 /// 1e-4 cell of a grid edge (it happens: the Steinmetz curve on a lattice of 33) leaves only
@@ -647,7 +648,9 @@ public:
                     }
                     for (uint64_t g : cells) results_.erase(g), pending.erase(g);  // built once for all
                     if (all && build_cell(cells.front(), &joined, triangles, &cells)) {
-                        results_[cells.front()] = {std::move(joined), std::move(triangles)};
+                        // No triangles: nothing left to join (its crossings died with a
+                        // neighbour), so the cells keep marching tetrahedra's patches.
+                        if (!triangles.empty()) results_[cells.front()] = {std::move(joined), std::move(triangles)};
                         continue;
                     }
                     for (uint64_t g : cells) {  // each on its own, without the corner
@@ -857,11 +860,23 @@ private:
             const Vec t = cross(ga, gb);
             const double lt = norm(t);
             if (!(lt > kIndependence * norm(ga) * norm(gb)) || !finite(t)) break;
+            // A step past a corner (another operand takes over there) finds no point of this
+            // curve: shorter ones still reach the face before it, or end in the corner's cell.
             Vec next = p;
-            for (int a = 0; a < 3; ++a) next[a] += double(direction) * 0.25 * h * t[a] / lt;
-            if (!solve_feature(field_, {op.a, op.b}, 2, next, h, h)) break;
+            double step = 0.25 * h;
+            bool solved = false;
+            for (int tries = 0; tries < kStepHalvings && !solved; ++tries) {
+                if (tries > 0) step /= 2;
+                next = p;
+                for (int a = 0; a < 3; ++a) next[a] += double(direction) * step * t[a] / lt;
+                solved = solve_feature(field_, {op.a, op.b}, 2, next, h, h);
+            }
+            if (!solved) {
+                end_cells_.insert(cell);
+                break;
+            }
             next = snapped(next);  // a curve along a grid edge stays on it, in the cell
-            if (norm(sub(next, p)) < 0.01 * h) break;
+            if (norm(sub(next, p)) < 0.04 * step) break;
             if (box.contains(next, 0)) {
                 if (!on_boundary(next, k, h)) {
                     end_cells_.insert(cell);
@@ -939,28 +954,57 @@ private:
     /// The axis of the grid line p and q both lie on (the same grid plane in the two other
     /// axes), or -1.
     int grid_edge_axis(const Vec& p, const Vec& q) const {
-        int along = -1, shared = 0;
+        int along = -1;
+        return shared_grid_planes(p, q, along) == 2 ? along : -1;
+    }
+
+    /// How many grid planes p lies on (two on a grid edge, three at a node).
+    int grid_planes_holding(const Vec& p) const {
+        int count = 0;
+        for (int axis = 0; axis < 3; ++axis) count += plane_of(p, axis) >= 0;
+        return count;
+    }
+
+    /// How many grid planes p and q both lie on; `along`, an axis neither's plane is in.
+    int shared_grid_planes(const Vec& p, const Vec& q, int& along) const {
+        int shared = 0;
         for (int axis = 0; axis < 3; ++axis) {
             const long k = plane_of(p, axis);
             if (k >= 0 && k == plane_of(q, axis)) ++shared;
             else along = axis;
         }
-        return shared == 2 ? along : -1;
+        return shared;
     }
 
-    /// A piece of edge along a grid edge with the solid on both sides of a grid plane through
-    /// it (the pentagon prism's vertical edges at x = 0 on cells of 0.5): the two cells beside
-    /// that plane both have triangles, and the piece lies on the face between them, so neither
-    /// may join it alone (marching tetrahedra's segment on that face, a thousandth of a cell
-    /// off, is what the other cell meets). Their patches are redone together instead, the
-    /// face between them inside, as for a corner on the lattice (groups_).
+    /// Whether cell id is already redone some other way: a corner's fan, a group, a wedge's
+    /// block, or the cell of a corner a wedge's tree holds as a tip (its fan again if the
+    /// wedge fails).
+    bool taken(uint64_t id) const {
+        if (groups_.count(id) || apex_.count(id) || wedge_of_.count(id)) return true;
+        for (const auto& [tip, corner] : corner_tips_)
+            if (corner.first == id) return true;
+        return false;
+    }
+
+    /// A piece of edge in a grid plane with the solid on both sides of it (the pentagon
+    /// prism's vertical edges at x = 0 on cells of 0.5, along a grid edge; the FLOZ3 plate's
+    /// 39° edge in y = 0 on 15 nodes in y, across a face): the two cells beside that plane
+    /// both have triangles, and the piece lies on the face between them, so neither may join
+    /// it alone (marching tetrahedra's segment on that face, a thousandth of a cell off, is
+    /// what the other cell meets). Their patches are redone together instead, the face
+    /// between them inside, as for a corner on the lattice (groups_).
     void plan_edge_groups(const std::function<std::optional<std::vector<uint32_t>>(uint64_t)>& patch_of) {
         std::map<uint64_t, std::vector<uint64_t>> planned;
         std::set<uint64_t> refused;  // wanted by two different groups: left to themselves
         for (const auto& [id, links] : links_)
             for (const auto& [a, b] : links) {
                 const Vec &p = positions_[crossings_[a].vertex], &q = positions_[crossings_[b].vertex];
-                if (grid_edge_axis(p, q) < 0) continue;
+                int along = -1;
+                const int shared = shared_grid_planes(p, q, along);
+                // Across a face, only a piece whose ends are on grid edges: ends inside the face
+                // would be inside the joined cells, off their joined boundary.
+                if (shared == 0) continue;
+                if (shared == 1 && (grid_planes_holding(p) < 2 || grid_planes_holding(q) < 2)) continue;
                 std::vector<uint64_t> cells = cells_holding(p, q);
                 std::erase_if(cells, [&](uint64_t cell) { return has_patch_ && !has_patch_(cell); });
                 if (cells.size() != 2) continue;
@@ -978,7 +1022,7 @@ private:
         std::vector<std::pair<uint64_t, std::vector<uint64_t>>> chosen;
         for (const auto& [cell, cells] : planned) {
             bool free = true;
-            for (uint64_t g : cells) free &= !refused.count(g) && !groups_.count(g) && !apex_.count(g) && !wedge_of_.count(g);
+            for (uint64_t g : cells) free &= !refused.count(g) && !taken(g);
             if (free) chosen.emplace_back(cell, cells);
         }
         for (auto& [cell, cells] : chosen) groups_[cell] = std::move(cells);
@@ -1009,7 +1053,6 @@ private:
     /// Both sheets come through that face, so with the cell beyond it the joined patch is one
     /// disc: the two cells are redone together, as an edge group's are.
     void plan_sheet_groups(const std::function<std::optional<std::vector<uint32_t>>(uint64_t)>& patch_of) {
-        auto taken = [&](uint64_t id) { return groups_.count(id) || apex_.count(id) || wedge_of_.count(id); };
         for (const auto& [id, links] : links_) {
             if (links.empty() || taken(id)) continue;
             const auto patch = patch_of(id);
@@ -2249,6 +2292,7 @@ private:
 
     static constexpr int kMaxTraceSteps = 1 << 22;
     static constexpr int kMaxStepsInCell = 64;
+    static constexpr int kStepHalvings = 7;  ///< down to 1/256 of a cell
     static constexpr int kMaxWedgeRadius = 3;
     static constexpr int kMaxWedgePolygon = 256;
 

@@ -954,8 +954,10 @@ private:
     /// The axis of the grid line p and q both lie on (the same grid plane in the two other
     /// axes), or -1.
     int grid_edge_axis(const Vec& p, const Vec& q) const {
-        int along = -1;
-        return shared_grid_planes(p, q, along) == 2 ? along : -1;
+        if (shared_grid_planes(p, q) != 2) return -1;
+        for (int axis = 0; axis < 3; ++axis)
+            if (!same_grid_plane(p, q, axis)) return axis;
+        return -1;
     }
 
     /// How many grid planes p lies on (two on a grid edge, three at a node).
@@ -965,14 +967,16 @@ private:
         return count;
     }
 
-    /// How many grid planes p and q both lie on; `along`, an axis neither's plane is in.
-    int shared_grid_planes(const Vec& p, const Vec& q, int& along) const {
+    /// Whether p and q lie on the same grid plane across `axis`.
+    bool same_grid_plane(const Vec& p, const Vec& q, int axis) const {
+        const long k = plane_of(p, axis);
+        return k >= 0 && k == plane_of(q, axis);
+    }
+
+    /// How many grid planes p and q both lie on.
+    int shared_grid_planes(const Vec& p, const Vec& q) const {
         int shared = 0;
-        for (int axis = 0; axis < 3; ++axis) {
-            const long k = plane_of(p, axis);
-            if (k >= 0 && k == plane_of(q, axis)) ++shared;
-            else along = axis;
-        }
+        for (int axis = 0; axis < 3; ++axis) shared += same_grid_plane(p, q, axis);
         return shared;
     }
 
@@ -999,8 +1003,7 @@ private:
         for (const auto& [id, links] : links_)
             for (const auto& [a, b] : links) {
                 const Vec &p = positions_[crossings_[a].vertex], &q = positions_[crossings_[b].vertex];
-                int along = -1;
-                const int shared = shared_grid_planes(p, q, along);
+                const int shared = shared_grid_planes(p, q);
                 // Across a face, only a piece whose ends are on grid edges: ends inside the face
                 // would be inside the joined cells, off their joined boundary.
                 if (shared == 0) continue;

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <array>
+#include <climits>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -351,8 +352,9 @@ struct Crossing {
 /// Features in cells marching tetrahedra left empty: where the solid is thinner than a cell
 /// (an acute edge's wedge, a tip whose cell holds no node inside), the traced crossings there
 /// have no patch segment to go into. Such crossings (and tips), joined by their links, form a
-/// tree whose leaves are crossings on patches; the patches of a block of cells around it are
-/// redone together, cut along the tree (wedges_ in ChainBuilder).
+/// tree whose leaves are crossings on patches (or one loop with branches, the edges round a
+/// face); the patches of a block of cells around it are redone together, cut along the tree
+/// (wedges_ in ChainBuilder).
 struct Wedge {
     std::vector<int> nodes;  ///< crossings with no segment, and tips as -1 - index
     std::vector<uint64_t> seeds;  ///< the cells with triangles that hold a link into the tree
@@ -568,17 +570,20 @@ public:
     /// than a cell leaves every cell along the edge empty (the 39° edge of the FLOZ3 plate at
     /// 37 nodes), so the edge is traced from the patches beside it or not at all.
     bool empty_cell_beside(uint64_t id, const Vec& p, uint64_t& cell) const {
-        const auto c = coords(id);
         for (uint64_t other : cells_around(p)) {
-            if (has_patch_ && has_patch_(other)) continue;
-            const auto o = coords(other);
-            bool near = true;
-            for (int a = 0; a < 3; ++a) near &= (o[a] > c[a] ? o[a] - c[a] : c[a] - o[a]) <= 1;
-            if (!near) continue;
+            if ((has_patch_ && has_patch_(other)) || !touching(id, other)) continue;
             cell = other;
             return true;
         }
         return false;
+    }
+
+    /// Whether cells a and b are the same or share a face, an edge or a node.
+    bool touching(uint64_t a, uint64_t b) const {
+        const auto c = coords(a), o = coords(b);
+        for (int k = 0; k < 3; ++k)
+            if ((o[k] > c[k] ? o[k] - c[k] : c[k] - o[k]) > 1) return false;
+        return true;
     }
 
     /// Phase 2: corners, then each cell's patch re-triangulated through its feature vertices;
@@ -625,11 +630,14 @@ public:
                         results_.erase(g);
                         pending.erase(g);
                     }
-                    if (build_wedge(wedges_[index], joined, triangles)) {
+                    bool disc = false;
+                    if (build_wedge(wedges_[index], joined, triangles, disc)) {
                         results_[cells.front()] = {std::move(joined), std::move(triangles)};
                         continue;
                     }
                     for (uint64_t g : cells) wedge_of_.erase(g), pending.insert(g);  // each on its own
+                    if (!disc && take_in_corners(index))  // a ring round corners' cells: the same block with them
+                        --wedges_[index].radius;
                     if (group_wedge(index))  // or a larger block
                         for (uint64_t g : wedges_[index].cells) pending.insert(g);
                     else
@@ -839,6 +847,14 @@ private:
             auto& list = links_[cell];
             if (std::find(list.begin(), list.end(), link) == list.end()) list.push_back(link);
         }
+    }
+
+    /// Removes the link between crossings a and b (from both partner lists and every cell's).
+    void drop_link(int a, int b) {
+        const std::pair<int, int> link{std::min(a, b), std::max(a, b)};
+        for (auto& [cell, list] : links_) std::erase(list, link);
+        std::erase(partners_[a], b);
+        std::erase(partners_[b], a);
     }
 
     /// Follows operation k's edge curve from p (in `cell`, on the curve) along ±(∇a × ∇b),
@@ -1220,10 +1236,7 @@ private:
                     if (b < a || crossings_[b].operation != crossings_[a].operation ||
                         !std::binary_search(here.begin(), here.end(), b))
                         continue;
-                    const std::pair<int, int> link{a, b};
-                    for (auto& [cell, list] : links_) std::erase(list, link);
-                    std::erase(partners_[a], b);
-                    std::erase(partners_[b], a);
+                    drop_link(a, b);
                 }
             }
         }
@@ -1236,11 +1249,12 @@ private:
     /// cell in the block (the edges from it are pieces of their own there); restored to its
     /// fan if no block of the tree can be redone.
     void corners_into_trees() {
-        std::map<uint64_t, std::vector<Vec>> beside;  // a cell → the crossings with no segment on its faces
+        std::map<uint64_t, std::vector<Vec>> beside;  // a corner's cell → the crossings with no segment next to it
         for (std::size_t x = 0; x < crossings_.size(); ++x)
             if (!crossings_[x].alive && !nodes_passed_.count(int(x)))
                 for (uint64_t id : cells_around(positions_[crossings_[x].vertex]))
-                    if (apex_.count(id)) beside[id].push_back(positions_[crossings_[x].vertex]);
+                    for (const auto& [corner, apex] : apex_)
+                        if (touching(id, corner)) beside[corner].push_back(positions_[crossings_[x].vertex]);
         std::map<uint32_t, std::vector<uint64_t>> cells_of;
         for (const auto& [id, apex] : apex_) cells_of[apex].push_back(id);
         for (const auto& [vertex, cells] : cells_of) {
@@ -1265,6 +1279,51 @@ private:
                 for (int n : wedge.nodes) planned.insert(n);
         for (const auto& [tip, corner] : corner_tips_)
             if (!planned.count(tip)) apex_[corner.first] = corner.second;
+    }
+
+    /// The corners fanned in a cell that wedge w's last joined cells surround (every neighbour
+    /// across a face with triangles among them) made tips of its tree, their cells' crossings
+    /// on edges through them its links; false if there is none. The joined patch rings such a
+    /// cell (the FLOZ3 plate's end face at 31 nodes: its edges run in cells with no triangles
+    /// but near the corner (-1.15, 1, -0.85)), so the block cannot be redone without it.
+    bool take_in_corners(std::size_t w) {
+        Wedge& wedge = wedges_[w];
+        if (wedge.around_nodes) return false;
+        std::map<uint32_t, int> cells_of;
+        for (const auto& [id, apex] : apex_) ++cells_of[apex];
+        auto joined = [&](uint64_t id) { return std::binary_search(wedge.cells.begin(), wedge.cells.end(), id); };
+        std::vector<uint64_t> taken;
+        for (const auto& [id, apex] : apex_) {
+            if (cells_of[apex] != 1 || groups_.count(id)) continue;
+            const auto c = coords(id);
+            bool surrounded = true, beside = false;
+            for (int a = 0; a < 3; ++a)
+                for (int side = 0; side < 2; ++side) {
+                    if (side == 0 ? c[a] == 0 : c[a] + 1 >= uint64_t(cells_[a])) continue;
+                    const uint64_t next = side ? id + stride(a) : id - stride(a);
+                    if (has_patch_ && !has_patch_(next)) continue;
+                    beside |= joined(next);
+                    surrounded &= joined(next);
+                }
+            if (surrounded && beside) taken.push_back(id);
+        }
+        const double h = lattice_h();
+        for (uint64_t id : taken) {
+            const uint32_t vertex = apex_[id];
+            const int tip = -1 - int(tips_.size());
+            corner_tips_[tip] = {id, vertex};
+            tips_.push_back(vertex);
+            apex_.erase(id);
+            wedge.nodes.push_back(tip);
+            field_.at(positions_[vertex]);
+            for (int x : crossings_in(id)) {
+                const auto& op = field_.operations()[std::size_t(crossings_[x].operation)];
+                if (tip_crossings_.count(x) || !vanishes(field_, op.a, h) || !vanishes(field_, op.b, h)) continue;
+                tip_crossings_[x] = tip;
+                crossings_of_tip_[tip].push_back(x);
+            }
+        }
+        return !taken.empty();
     }
 
     /// Wedge w's corners made tips back to their fans, when no block of it can be redone;
@@ -1668,6 +1727,23 @@ private:
         return out;
     }
 
+    /// Whether the link between crossings a and b, near corner p (within two cell diagonals,
+    /// in a cell touching one of p's `corner_cells`), turns at p: seen from p its ends lie 20°
+    /// to 160° apart, where two pieces of one smooth curve through p lie 180° apart and two of
+    /// one side 0° apart.
+    bool cuts_kink(const Vec& p, const std::vector<uint64_t>& corner_cells, int a, int b) const {
+        const double reach = 2 * norm(Vec{step_[0], step_[1], step_[2]});
+        const Vec u = sub(positions_[crossings_[a].vertex], p), v = sub(positions_[crossings_[b].vertex], p);
+        const double nu = norm(u), nv = norm(v);
+        if (nu > reach || nv > reach || nu <= 1e-9 * lattice_h() || nv <= 1e-9 * lattice_h()) return false;
+        const double cosine = dot(u, v) / (nu * nv);
+        if (cosine > std::cos(std::numbers::pi / 9) || cosine < std::cos(8 * std::numbers::pi / 9)) return false;
+        for (uint64_t id : cells_holding(positions_[crossings_[a].vertex], positions_[crossings_[b].vertex]))
+            for (uint64_t corner : corner_cells)
+                if (touching(id, corner)) return true;
+        return false;
+    }
+
     /// After choose_segments: the crossings that found no segment (and tips), grouped by their
     /// links into trees; each tree with links to crossings on patches becomes a wedge.
     void plan_wedges() {
@@ -1720,6 +1796,18 @@ private:
                     tip_crossings_[int(x)] = tip, tip_crossings_[y] = tip;
                 }
             }
+            // So is a link between crossings on patches that cuts the kink in a cell beside the
+            // tip's: the plate at 27 nodes, its corner (-0.85, 1, -1.15) 0.0017 above a grid
+            // plane, where the trace went from the vertical edge to the slab edge below the
+            // corner. Its ends then become edges into the tip.
+            for (std::size_t x = 0; x < crossings_.size(); ++x) {
+                if (!crossings_[x].alive || !through[std::size_t(crossings_[x].operation)]) continue;
+                const std::vector<int> partners = partners_[int(x)];
+                for (int y : partners)
+                    if (y > int(x) && crossings_[y].alive && crossings_[y].operation == crossings_[x].operation &&
+                        cuts_kink(p, tip_cells, int(x), y))
+                        drop_link(int(x), y);
+            }
             for (std::size_t x = 0; x < crossings_.size(); ++x) {
                 const double distance = norm(sub(positions_[crossings_[x].vertex], p));
                 if (distance <= 1e-9 * h) {
@@ -1748,8 +1836,17 @@ private:
         for (int n : nodes) parent[n] = n;
         std::function<int(int)> root = [&](int n) { return parent[n] == n ? n : parent[n] = root(parent[n]); };
         for (int n : nodes)
-            for (int m : node_neighbours(n))
-                if (parent.count(m)) parent[root(n)] = root(m);
+            for (int m : node_neighbours(n)) {
+                if (parent.count(m)) {
+                    parent[root(n)] = root(m);
+                } else if (const auto partners = partners_.find(m); n < 0 && partners != partners_.end()) {
+                    // A tip's edge ends on a patch beside the tip and goes on into a gap (the
+                    // plate's edge from (-0.85, 1, -1.15) at 61 nodes): one tree, else the
+                    // gap's block would ring the tip's cell.
+                    for (int k : partners->second)
+                        if (parent.count(k)) parent[root(n)] = root(k);
+                }
+            }
         std::map<int, Wedge> trees;
         for (int n : nodes) trees[root(n)].nodes.push_back(n);
         std::vector<Wedge> planned;
@@ -1761,8 +1858,18 @@ private:
                     wedge.span[a] = {std::min(wedge.span[a].first, long(c[a])), std::max(wedge.span[a].second, long(c[a]))};
             };
             for (int n : wedge.nodes) {
-                for (uint64_t id : cells_around(node_position(n))) widen(id);
-                if (n < 0) continue;
+                const std::vector<uint64_t> around = cells_around(node_position(n));
+                for (uint64_t id : around) widen(id);
+                if (n < 0) {  // a tip's edges onto the patches beside its cell
+                    for (int m : node_neighbours(n)) {
+                        if (m < 0 || !crossings_[m].alive) continue;
+                        for (uint64_t id : cells_around(positions_[crossings_[m].vertex]))
+                            if ((!has_patch_ || has_patch_(id)) &&
+                                std::any_of(around.begin(), around.end(), [&](uint64_t c) { return touching(id, c); }))
+                                wedge.seeds.push_back(id);
+                    }
+                    continue;
+                }
                 for (int m : node_neighbours(n)) {
                     if (m < 0 || !crossings_[m].alive) continue;
                     for (uint64_t id : cells_around(positions_[crossings_[m].vertex]))
@@ -1836,20 +1943,133 @@ private:
         return false;
     }
 
+    /// Whether the graph on points `inner` and `leaves` with `edges` is one piece.
+    static bool connected(const std::set<std::pair<int, int>>& edges, const std::set<int>& inner, const std::set<int>& leaves) {
+        std::map<int, int> parent;
+        for (int x : inner) parent[x] = x;
+        for (int x : leaves) parent[x] = x;
+        std::function<int(int)> root = [&](int x) { return parent[x] == x ? x : parent[x] = root(parent[x]); };
+        std::size_t pieces = parent.size();
+        for (const auto& [a, b] : edges)
+            if (const int ra = root(a), rb = root(b); ra != rb) parent[ra] = rb, --pieces;
+        return pieces == 1;
+    }
+
+    /// A piece of a wedge's links with one loop in it: the edges round a face of the solid all
+    /// in cells with no triangles, or in the joined ones (the FLOZ3 plate's end face at 31
+    /// nodes). The faces outside the loop reach it through the branches from the ring.
+    struct PieceLoop {
+        std::vector<int> order;              ///< the loop's points, going round it
+        std::map<int, std::size_t> at;       ///< a point on the loop → its place in `order`
+        std::map<int, int> toward;           ///< a point off the loop → the next one toward it
+        std::set<std::size_t> attached;      ///< the places where branches to the ring join
+
+        /// The points from `target` to `goal` (two leaves next to each other on the ring among
+        /// the piece's), both left out: down target's branch, along the arc of the loop with no
+        /// other branch joining it, up goal's branch. False where that arc is not the only one
+        /// (branches join the loop at two places or fewer).
+        bool path(int target, int goal, std::vector<int>& out) const {
+            auto branch = [&](int x) {  // x up to its place on the loop
+                std::vector<int> chain{x};
+                while (!at.count(chain.back())) chain.push_back(toward.at(chain.back()));
+                return chain;
+            };
+            std::vector<int> from = branch(target), to = branch(goal);
+            const std::size_t n = order.size(), start = at.at(from.back()), end = at.at(to.back());
+            if (start == end) {  // the same place: where the branches meet, not round the loop
+                if (attached.size() < 2) return false;
+                while (from.size() > 1 && to.size() > 1 && from[from.size() - 2] == to[to.size() - 2])
+                    from.pop_back(), to.pop_back();
+                if (from.size() < 2 || to.size() < 2) return false;  // one leaf on the other's branch
+                out.assign(from.begin() + 1, from.end());
+                out.insert(out.end(), to.rbegin() + 1, to.rend() - 1);
+                return true;
+            }
+            auto free_arc = [&](std::size_t step) {  // step n - 1 goes backwards
+                for (std::size_t i = (start + step) % n; i != end; i = (i + step) % n)
+                    if (attached.count(i)) return false;
+                return true;
+            };
+            const bool forwards = free_arc(1), backwards = free_arc(n - 1);
+            if (forwards == backwards) return false;
+            const std::size_t step = forwards ? 1 : n - 1;
+            out.assign(from.begin() + 1, from.end());
+            for (std::size_t i = (start + step) % n;; i = (i + step) % n) {
+                out.push_back(order[i]);
+                if (i == end) break;
+            }
+            out.insert(out.end(), to.rbegin() + 1, to.rend() - 1);
+            return true;
+        }
+    };
+
+    /// Fills `loop` for piece p of the links (`adjacent`, `piece`): its loop, found by taking
+    /// off the points with one link until none is left, and the branches to it; false if a
+    /// leaf on the ring is on the loop.
+    static bool find_loop(int p, const std::map<int, int>& piece, const std::map<int, std::vector<int>>& adjacent,
+                          const std::set<int>& leaves, PieceLoop& loop) {
+        std::map<int, std::size_t> degree;
+        for (const auto& [x, q] : piece)
+            if (q == p) degree[x] = adjacent.at(x).size();
+        std::vector<int> ends;
+        for (const auto& [x, d] : degree)
+            if (d == 1) ends.push_back(x);
+        std::set<int> off;
+        while (!ends.empty()) {
+            const int x = ends.back();
+            ends.pop_back();
+            off.insert(x);
+            for (int y : adjacent.at(x))
+                if (!off.count(y) && --degree[y] == 1) ends.push_back(y);
+        }
+        int first = INT_MIN;
+        for (const auto& [x, d] : degree)
+            if (!off.count(x)) {
+                if (leaves.count(x)) return false;
+                if (first == INT_MIN) first = x;
+            }
+        if (first == INT_MIN) return false;
+        for (int x = first, before = INT_MIN;;) {
+            loop.at[x] = loop.order.size();
+            loop.order.push_back(x);
+            int next = INT_MIN;
+            for (int y : adjacent.at(x))
+                if (!off.count(y) && y != before && !loop.at.count(y)) next = y;
+            if (next == INT_MIN) break;
+            before = x, x = next;
+        }
+        std::vector<int> todo(loop.order);
+        while (!todo.empty()) {
+            const int x = todo.back();
+            todo.pop_back();
+            for (int y : adjacent.at(x))
+                if (off.count(y) && !loop.toward.count(y)) loop.toward[y] = x, todo.push_back(y);
+        }
+        for (int x : leaves)
+            if (piece.count(x) && piece.at(x) == p) {
+                int y = x;
+                while (!loop.at.count(y)) y = loop.toward.at(y);
+                loop.attached.insert(loop.at[y]);
+            }
+        return loop.order.size() >= 3;
+    }
+
     /// The wedge's joined patch redone: its boundary ring with the crossings on it put in,
     /// cut by the tree (the polygon between two leaves next to each other on the ring is the
     /// ring's arc between them and the tree's path back), each polygon triangulated with
     /// least area and the polygons checked not to cross, as build_cell does for one cell.
-    bool build_wedge(const Wedge& wedge, const std::vector<uint32_t>& patch, std::vector<Tri>& out) {
+    /// `disc`: whether the joined patch was one disc (else it may ring a corner's cell).
+    bool build_wedge(const Wedge& wedge, const std::vector<uint32_t>& patch, std::vector<Tri>& out, bool& disc) {
         const Cell& box = wedge.block;
         const double h = box.h;
         std::vector<uint32_t> loop;
-        if (patch.empty() || !boundary_loop(patch, box, loop)) return false;
+        disc = !patch.empty() && boundary_loop(patch, box, loop);
+        if (!disc) return false;
         auto in_group = [&](uint64_t id) { return std::binary_search(wedge.cells.begin(), wedge.cells.end(), id); };
         // The crossings on the ring: alive, on a face between a joined cell and another.
         const std::size_t n = loop.size();
-        std::vector<int> insert(n, -1);
         std::set<int> on_ring;
+        std::vector<int> on_faces;
         for (uint64_t id : wedge.cells)
             for (int x : crossings_in(id)) {
                 if (on_ring.count(x)) continue;
@@ -1859,19 +2079,19 @@ private:
                 }
                 const auto two = cells_of_face(crossings_[x].face);
                 if (in_group(two[0]) && in_group(two[1])) continue;  // inside: the tree may use it
-                const std::size_t at = segment_index(loop, crossings_[x].segment);
-                if (at == n || insert[at] >= 0) return false;
-                insert[at] = x;
+                on_faces.push_back(x);
                 on_ring.insert(x);
             }
+        std::vector<std::vector<int>> insert;
+        if (!put_into_segments(loop, on_faces, h, insert)) return false;
         std::vector<uint32_t> ring;
         std::map<uint32_t, std::size_t> ring_index;  // vertex → its index in the ring
         for (std::size_t i = 0; i < n; ++i) {
             ring_index[loop[i]] = ring.size();
             ring.push_back(loop[i]);
-            if (insert[i] >= 0) {
-                ring_index[crossings_[insert[i]].vertex] = ring.size();
-                ring.push_back(crossings_[insert[i]].vertex);
+            for (int x : insert[i]) {
+                ring_index[crossings_[x].vertex] = ring.size();
+                ring.push_back(crossings_[x].vertex);
             }
         }
         const std::size_t m = ring.size();
@@ -1924,7 +2144,10 @@ private:
                 if (!classify(b)) return false;
             }
         }
-        if (leaves.size() < 2 || edges.size() + 1 != inner.size() + leaves.size()) return false;  // not a tree
+        // One piece: a tree, or one loop with branches (a point left out would be lost).
+        if (leaves.size() < 2 || edges.size() + 1 < inner.size() + leaves.size() || edges.size() > inner.size() + leaves.size() ||
+            !connected(edges, inner, leaves))
+            return false;
         // The other links in the joined cells (the edge going on from a leaf, another edge
         // passing) cut the joined patch too, as in one cell: with the tree they must make pieces
         // that are trees, each reaching the ring at two points or more, their other points on
@@ -1943,6 +2166,7 @@ private:
                     }
                 }
         std::map<int, int> piece;  // each point → its piece
+        std::map<int, PieceLoop> loops;  // the pieces with a loop → it
         std::map<int, std::vector<int>> adjacent;
         for (const auto& [a, b] : edges) adjacent[a].push_back(b), adjacent[b].push_back(a);
         {
@@ -1959,10 +2183,16 @@ private:
                     for (int b : adjacent[a])
                         if (piece.emplace(b, pieces).second) todo.push_back(b);
                 }
-                if (degrees != 2 * (points - 1) || ends_on_ring < 2) return false;  // not a tree reaching the ring twice
+                if ((degrees != 2 * (points - 1) && degrees != 2 * points) || ends_on_ring < 2)
+                    return false;  // not a tree (or one loop) reaching the ring twice
+                if (degrees == 2 * points) loops[pieces];
                 ++pieces;
             }
         }
+        for (auto& [p, loop] : loops)
+            if (!find_loop(p, piece, adjacent, leaves, loop)) return false;
+        for (int x : inner)  // a branch ending inside would be on no face: that point lost
+            if (adjacent[x].size() < 2) return false;
         for (int x : inner) {  // inside the block, and on no cell with triangles outside the group
             if (!box.contains(node_position(x), 1e-12 * h)) return false;
             for (uint64_t id : cells_around(node_position(x)))
@@ -2018,18 +2248,26 @@ private:
                 }
                 // The piece's path from `target` back to `goal`, through inner nodes only.
                 const int goal = previous[target];
-                std::map<int, int> came_from{{target, target}};
-                std::vector<int> frontier{target};
-                while (!frontier.empty() && !came_from.count(goal)) {
-                    const int a = frontier.back();
-                    frontier.pop_back();
-                    for (int b : adjacent[a])
-                        if (!came_from.count(b) && (b == goal || inner.count(b))) came_from[b] = a, frontier.push_back(b);
+                std::vector<int> between;
+                if (const auto loop = loops.find(piece[target]); loop != loops.end()) {
+                    if (!loop->second.path(target, goal, between)) return false;
+                } else {
+                    std::map<int, int> came_from{{target, target}};
+                    std::vector<int> frontier{target};
+                    while (!frontier.empty() && !came_from.count(goal)) {
+                        const int a = frontier.back();
+                        frontier.pop_back();
+                        for (int b : adjacent[a])
+                            if (!came_from.count(b) && (b == goal || inner.count(b))) came_from[b] = a, frontier.push_back(b);
+                    }
+                    if (!came_from.count(goal)) return false;
+                    for (int a = came_from[goal]; a != target; a = came_from[a]) between.push_back(a);
+                    std::reverse(between.begin(), between.end());
                 }
-                if (!came_from.count(goal)) return false;
-                std::vector<uint32_t> back;
-                for (int a = came_from[goal]; a != target; a = came_from[a]) back.push_back(node_vertex(a));
-                poly.insert(poly.end(), back.rbegin(), back.rend());
+                for (int a : between) {
+                    if (!inner.count(a)) return false;
+                    poly.push_back(node_vertex(a));
+                }
                 e = end_of[goal];
             }
             if (e != first) return false;  // the pieces cross each other
@@ -2037,6 +2275,23 @@ private:
             std::sort(sorted.begin(), sorted.end());
             if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) return false;
             polygons.push_back(std::move(poly));
+        }
+        // The face inside each loop goes round it the other way from the faces outside it.
+        for (const auto& [p, loop] : loops) {
+            std::vector<uint32_t> face;
+            for (int x : loop.order) face.push_back(node_vertex(x));
+            const std::size_t k = face.size();
+            int way = 0;  // +1: the faces outside went along the loop's order, -1 against it
+            for (const auto& poly : polygons)
+                for (std::size_t i = 0; i < poly.size() && !way; ++i)
+                    for (std::size_t j = 0; j < k && !way; ++j)
+                        if (poly[i] == face[j]) {
+                            const uint32_t next = poly[(i + 1) % poly.size()];
+                            way = next == face[(j + 1) % k] ? 1 : next == face[(j + k - 1) % k] ? -1 : 0;
+                        }
+            if (!way) return false;
+            if (way > 0) std::reverse(face.begin(), face.end());
+            polygons.push_back(std::move(face));
         }
         std::vector<Tri> triangles;
         std::vector<std::size_t> first_of;
@@ -2094,6 +2349,55 @@ private:
 
     /// Cell `id`'s patch with its crossings put on its boundary and cut along its feature
     /// edges (the traced links, or the spokes from its corner). False if any test fails.
+    /// Each crossing put into the boundary segment of `loop` chosen for it (choose_segments),
+    /// as insert[segment]; two may share one (two edges leaving a corner just past the face:
+    /// the FLOZ3 plate's at 57 nodes, 0.002 below it; both edges into its tip across the face
+    /// of the tip's cell at 29), in their order along it, which the neighbour walking the
+    /// segment the other way meets reversed: the same boundary. False when a crossing's
+    /// segment is not on the loop, or the boundary with the crossings in would cross itself
+    /// in a face's plane (the neighbour across the face sees it).
+    bool put_into_segments(const std::vector<uint32_t>& loop, const std::vector<int>& crossings, double h,
+                           std::vector<std::vector<int>>& insert) const {
+        const std::size_t n = loop.size();
+        const double tolerance = 1e-9 * h;
+        insert.assign(n, {});
+        for (int x : crossings) {
+            const std::size_t at = segment_index(loop, crossings_[x].segment);
+            if (at == n) return false;
+            insert[at].push_back(x);
+        }
+        std::vector<std::vector<Vec>> pieces(n);  // each segment with its crossings in
+        for (std::size_t i = 0; i < n; ++i) {
+            const Vec &a = positions_[loop[i]], &b = positions_[loop[(i + 1) % n]];
+            const Vec ab = sub(b, a);
+            std::sort(insert[i].begin(), insert[i].end(), [&](int x, int y) {
+                return dot(sub(positions_[crossings_[x].vertex], a), ab) < dot(sub(positions_[crossings_[y].vertex], a), ab);
+            });
+            pieces[i].push_back(a);
+            for (int x : insert[i]) pieces[i].push_back(positions_[crossings_[x].vertex]);
+            pieces[i].push_back(b);
+        }
+        for (std::size_t i = 0; i < n; ++i) {
+            if (insert[i].empty()) continue;
+            const int axis = int(crossings_[insert[i].front()].face % 3);
+            const double plane = positions_[crossings_[insert[i].front()].vertex][axis];
+            const int u = axis == 0 ? 1 : 0, w = axis == 2 ? 1 : 2;
+            auto flat = [&](const Vec& p) { return std::array<double, 2>{p[u], p[w]}; };
+            for (std::size_t j = 0; j < n; ++j) {
+                const Vec &c = positions_[loop[j]], &d = positions_[loop[(j + 1) % n]];
+                if (std::fabs(c[axis] - plane) > tolerance || std::fabs(d[axis] - plane) > tolerance) continue;
+                for (std::size_t p = 0; p + 1 < pieces[i].size(); ++p)
+                    for (std::size_t r = 0; r + 1 < pieces[j].size(); ++r) {
+                        if (j == i && (r == p || r + 1 == p || p + 1 == r)) continue;  // itself, or its neighbours
+                        if (segments_cross_2d(flat(pieces[i][p]), flat(pieces[i][p + 1]), flat(pieces[j][r]),
+                                              flat(pieces[j][r + 1]), 1e-12 * h * h))
+                            return false;
+                    }
+            }
+        }
+        return true;
+    }
+
     bool build_cell(uint64_t id, const std::vector<uint32_t>* patch, std::vector<Tri>& out,
                     const std::vector<uint64_t>* group = nullptr) {
         std::vector<int> crossings = crossings_in(id);
@@ -2121,47 +2425,11 @@ private:
         if (!boundary_loop(*patch, cell, loop)) return false;
         const std::size_t n = loop.size();
 
-        // Each crossing goes into the boundary segment chosen for it (choose_segments); two
-        // may share one (two edges leaving a corner just past the face: the FLOZ3 plate's at
-        // 57 nodes, 0.002 below it), in their order along it, which the neighbour walking the
-        // segment the other way meets reversed: the same boundary.
-        std::vector<std::vector<int>> insert(n);
-        for (int x : crossings) {
-            if (crossings_[x].on_mesh_vertex) continue;
-            const std::size_t at = segment_index(loop, crossings_[x].segment);
-            if (at == n) return false;
-            insert[at].push_back(x);
-        }
-        std::vector<std::vector<Vec>> pieces(n);  // each segment with its crossings in
-        for (std::size_t i = 0; i < n; ++i) {
-            const Vec &a = positions_[loop[i]], &b = positions_[loop[(i + 1) % n]];
-            const Vec ab = sub(b, a);
-            std::sort(insert[i].begin(), insert[i].end(), [&](int x, int y) {
-                return dot(sub(positions_[crossings_[x].vertex], a), ab) < dot(sub(positions_[crossings_[y].vertex], a), ab);
-            });
-            pieces[i].push_back(a);
-            for (int x : insert[i]) pieces[i].push_back(positions_[crossings_[x].vertex]);
-            pieces[i].push_back(b);
-        }
-        // The face's boundary with the crossings in must not cross itself (the neighbour sees it).
-        for (std::size_t i = 0; i < n; ++i) {
-            if (insert[i].empty()) continue;
-            const int axis = int(crossings_[insert[i].front()].face % 3);
-            const double plane = positions_[crossings_[insert[i].front()].vertex][axis];
-            const int u = axis == 0 ? 1 : 0, w = axis == 2 ? 1 : 2;
-            auto flat = [&](const Vec& p) { return std::array<double, 2>{p[u], p[w]}; };
-            for (std::size_t j = 0; j < n; ++j) {
-                const Vec &c = positions_[loop[j]], &d = positions_[loop[(j + 1) % n]];
-                if (std::fabs(c[axis] - plane) > tolerance || std::fabs(d[axis] - plane) > tolerance) continue;
-                for (std::size_t p = 0; p + 1 < pieces[i].size(); ++p)
-                    for (std::size_t r = 0; r + 1 < pieces[j].size(); ++r) {
-                        if (j == i && (r == p || r + 1 == p || p + 1 == r)) continue;  // itself, or its neighbours
-                        if (segments_cross_2d(flat(pieces[i][p]), flat(pieces[i][p + 1]), flat(pieces[j][r]),
-                                              flat(pieces[j][r + 1]), 1e-12 * h * h))
-                            return false;
-                    }
-            }
-        }
+        std::vector<int> on_faces;
+        for (int x : crossings)
+            if (!crossings_[x].on_mesh_vertex) on_faces.push_back(x);
+        std::vector<std::vector<int>> insert;
+        if (!put_into_segments(loop, on_faces, h, insert)) return false;
         std::vector<uint32_t> ring;
         std::map<int, std::size_t> position;  // crossing → its index in the ring
         for (std::size_t i = 0; i < n; ++i) {

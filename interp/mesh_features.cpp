@@ -1245,9 +1245,10 @@ private:
     /// A corner in a cell with triangles at the end of an edge whose cells have none (the FLOZ3
     /// plate's 70.5° edge y = -1 at 21 nodes, 0.05 of a cell below a grid plane): that edge's
     /// tree would take a block around the corner's cell, which the corner's fan keeps out, so
-    /// the joined patch would have a hole. Such a corner joins the tree as a tip instead, its
-    /// cell in the block (the edges from it are pieces of their own there); restored to its
-    /// fan if no block of the tree can be redone.
+    /// the joined patch would have a hole. Such a corner (a crossing with no segment in a cell
+    /// touching its own, the plate at 61 nodes, or on its faces) joins the tree as a tip
+    /// instead, its cell in the block (the edges from it are pieces of their own there);
+    /// restored to its fan if no block of the tree can be redone.
     void corners_into_trees() {
         std::map<uint64_t, std::vector<Vec>> beside;  // a corner's cell → the crossings with no segment next to it
         for (std::size_t x = 0; x < crossings_.size(); ++x)

@@ -349,6 +349,21 @@ struct Crossing {
     bool on_mesh_vertex = false;
 };
 
+/// Points joined into pieces by links (union-find): a wedge's trees, and the test that its
+/// links are one piece.
+struct Pieces {
+    std::map<int, int> parent;
+    void add(int x) { parent[x] = x; }
+    bool has(int x) const { return parent.count(x) > 0; }
+    int root(int x) { return parent[x] == x ? x : parent[x] = root(parent[x]); }
+    /// Joins the pieces of x and y; false if they were one already.
+    bool join(int x, int y) {
+        const int rx = root(x), ry = root(y);
+        parent[rx] = ry;
+        return rx != ry;
+    }
+};
+
 /// Features in cells marching tetrahedra left empty: where the solid is thinner than a cell
 /// (an acute edge's wedge, a tip whose cell holds no node inside), the traced crossings there
 /// have no patch segment to go into. Such crossings (and tips), joined by their links, form a
@@ -576,6 +591,16 @@ public:
             return true;
         }
         return false;
+    }
+
+    /// The cells across cell id's faces, in axis order, the lower side first.
+    std::vector<uint64_t> face_neighbours(uint64_t id) const {
+        std::vector<uint64_t> out;
+        const auto c = coords(id);
+        for (int a = 0; a < 3; ++a)
+            for (int side = 0; side < 2; ++side)
+                if (side == 0 ? c[a] > 0 : c[a] + 1 < uint64_t(cells_[a])) out.push_back(side ? id + stride(a) : id - stride(a));
+        return out;
     }
 
     /// Whether cells a and b are the same or share a face, an edge or a node.
@@ -1077,22 +1102,18 @@ private:
             const auto patch = patch_of(id);
             std::vector<uint32_t> loop;
             if (!patch || boundary_loop(*patch, cell_box(id), loop)) continue;
-            const auto c = coords(id);
-            for (int a = 0; a < 3 && !groups_.count(id); ++a)
-                for (int side = 0; side < 2; ++side) {
-                    if (side == 0 ? c[a] == 0 : c[a] + 1 >= uint64_t(cells_[a])) continue;
-                    const uint64_t other = side ? id + stride(a) : id - stride(a);
-                    if (taken(other)) continue;
-                    const auto more = patch_of(other);
-                    if (!more) continue;
-                    std::vector<uint32_t> joined = *patch;
-                    joined.insert(joined.end(), more->begin(), more->end());
-                    const std::vector<uint64_t> cells{std::min(id, other), std::max(id, other)};
-                    if (!boundary_loop(joined, joined_box(cells), loop)) continue;
-                    groups_[id] = cells;
-                    groups_[other] = cells;
-                    break;
-                }
+            for (uint64_t other : face_neighbours(id)) {  // the first that makes one disc
+                if (taken(other)) continue;
+                const auto more = patch_of(other);
+                if (!more) continue;
+                std::vector<uint32_t> joined = *patch;
+                joined.insert(joined.end(), more->begin(), more->end());
+                const std::vector<uint64_t> cells{std::min(id, other), std::max(id, other)};
+                if (!boundary_loop(joined, joined_box(cells), loop)) continue;
+                groups_[id] = cells;
+                groups_[other] = cells;
+                break;
+            }
         }
     }
 
@@ -1296,16 +1317,12 @@ private:
         std::vector<uint64_t> taken;
         for (const auto& [id, apex] : apex_) {
             if (cells_of[apex] != 1 || groups_.count(id)) continue;
-            const auto c = coords(id);
             bool surrounded = true, beside = false;
-            for (int a = 0; a < 3; ++a)
-                for (int side = 0; side < 2; ++side) {
-                    if (side == 0 ? c[a] == 0 : c[a] + 1 >= uint64_t(cells_[a])) continue;
-                    const uint64_t next = side ? id + stride(a) : id - stride(a);
-                    if (has_patch_ && !has_patch_(next)) continue;
-                    beside |= joined(next);
-                    surrounded &= joined(next);
-                }
+            for (uint64_t next : face_neighbours(id)) {
+                if (has_patch_ && !has_patch_(next)) continue;
+                beside |= joined(next);
+                surrounded &= joined(next);
+            }
             if (surrounded && beside) taken.push_back(id);
         }
         const double h = lattice_h();
@@ -1832,24 +1849,23 @@ private:
             }
         }
         for (const auto& [x, tip] : tip_crossings_) crossings_of_tip_[tip].push_back(x);
-        // Trees: the nodes joined by links (union-find).
-        std::map<int, int> parent;
-        for (int n : nodes) parent[n] = n;
-        std::function<int(int)> root = [&](int n) { return parent[n] == n ? n : parent[n] = root(parent[n]); };
+        // Trees: the nodes joined by links.
+        Pieces trees_of;
+        for (int n : nodes) trees_of.add(n);
         for (int n : nodes)
             for (int m : node_neighbours(n)) {
-                if (parent.count(m)) {
-                    parent[root(n)] = root(m);
+                if (trees_of.has(m)) {
+                    trees_of.join(n, m);
                 } else if (const auto partners = partners_.find(m); n < 0 && partners != partners_.end()) {
                     // A tip's edge ends on a patch beside the tip and goes on into a gap (the
                     // plate's edge from (-0.85, 1, -1.15) at 61 nodes): one tree, else the
                     // gap's block would ring the tip's cell.
                     for (int k : partners->second)
-                        if (parent.count(k)) parent[root(n)] = root(k);
+                        if (trees_of.has(k)) trees_of.join(n, k);
                 }
             }
         std::map<int, Wedge> trees;
-        for (int n : nodes) trees[root(n)].nodes.push_back(n);
+        for (int n : nodes) trees[trees_of.root(n)].nodes.push_back(n);
         std::vector<Wedge> planned;
         for (auto& [r, wedge] : trees) {
             for (int a = 0; a < 3; ++a) wedge.span[a] = {cells_[a], -1};
@@ -1928,13 +1944,8 @@ private:
             while (!stack.empty()) {
                 const uint64_t id = stack.back();
                 stack.pop_back();
-                const auto c = coords(id);
-                for (int a = 0; a < 3; ++a)
-                    for (int side = 0; side < 2; ++side) {
-                        if (side == 0 ? c[a] == 0 : c[a] + 1 >= uint64_t(cells_[a])) continue;
-                        const uint64_t next = side ? id + stride(a) : id - stride(a);
-                        if (eligible(next) && reached.insert(next).second) stack.push_back(next);
-                    }
+                for (uint64_t next : face_neighbours(id))
+                    if (eligible(next) && reached.insert(next).second) stack.push_back(next);
             }
             if (reached.empty()) continue;
             wedge.cells.assign(reached.begin(), reached.end());
@@ -1946,13 +1957,11 @@ private:
 
     /// Whether the graph on points `inner` and `leaves` with `edges` is one piece.
     static bool connected(const std::set<std::pair<int, int>>& edges, const std::set<int>& inner, const std::set<int>& leaves) {
-        std::map<int, int> parent;
-        for (int x : inner) parent[x] = x;
-        for (int x : leaves) parent[x] = x;
-        std::function<int(int)> root = [&](int x) { return parent[x] == x ? x : parent[x] = root(parent[x]); };
-        std::size_t pieces = parent.size();
-        for (const auto& [a, b] : edges)
-            if (const int ra = root(a), rb = root(b); ra != rb) parent[ra] = rb, --pieces;
+        Pieces points;
+        for (int x : inner) points.add(x);
+        for (int x : leaves) points.add(x);
+        std::size_t pieces = points.parent.size();
+        for (const auto& [a, b] : edges) pieces -= points.join(a, b);
         return pieces == 1;
     }
 
@@ -2348,8 +2357,6 @@ private:
         return true;
     }
 
-    /// Cell `id`'s patch with its crossings put on its boundary and cut along its feature
-    /// edges (the traced links, or the spokes from its corner). False if any test fails.
     /// Each crossing put into the boundary segment of `loop` chosen for it (choose_segments),
     /// as insert[segment]; two may share one (two edges leaving a corner just past the face:
     /// the FLOZ3 plate's at 57 nodes, 0.002 below it; both edges into its tip across the face
@@ -2399,6 +2406,8 @@ private:
         return true;
     }
 
+    /// Cell `id`'s patch with its crossings put on its boundary and cut along its feature
+    /// edges (the traced links, or the spokes from its corner). False if any test fails.
     bool build_cell(uint64_t id, const std::vector<uint32_t>* patch, std::vector<Tri>& out,
                     const std::vector<uint64_t>* group = nullptr) {
         std::vector<int> crossings = crossings_in(id);

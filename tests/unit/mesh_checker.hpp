@@ -1,7 +1,9 @@
 // tests/unit/mesh_checker.hpp — an independent check of a mesh file fortu wrote: its own
 // STL/PLY readers (not runtime/mesh_io), its own topology, orientation, degeneracy and
-// self-intersection tests, and distances to the true surface measured by Newton projection
-// on the model's field (the point evaluator, not the mesher). Shares no code with the mesher.
+// self-intersection tests, and distances to the true surface measured on the model's field
+// (the point evaluator, not the mesher): by Newton projection, and where Newton cannot reach
+// the surface (a field that jumps, an edge without a gradient) by where the field changes
+// sign. Shares no code with the mesher.
 #pragma once
 
 #include "interp/voxel_engine.hpp"
@@ -150,10 +152,50 @@ struct MeshCheck {
     std::size_t intersecting_pairs = 0;
     double signed_volume = 0;
     std::size_t normals_checked = 0, normals_wrong = 0;  ///< the field does not decrease along the normal (centroid ± cell/8)
-    double mesh_to_surface = 0;          ///< max over vertices and centroids (Newton projection)
-    double surface_to_mesh = 0;          ///< max over projected samples
+    double mesh_to_surface = 0;          ///< max over vertices and centroids
+    double surface_to_mesh = 0;          ///< max over samples of the solid's boundary
     std::size_t samples = 0;
+    P3 worst_mesh_point{}, worst_surface_point{};  ///< where each maximum is
 };
+
+/// Whether p is inside the solid: f > 0. A zero or a NaN counts as outside, as the mesher's
+/// nodes do (a NaN where SQRT's argument is negative ends the solid).
+inline bool inside(const PointEvaluator& f, const P3& p) { return f(p).value > 0; }
+
+/// An upper bound on the distance from p to the solid's boundary (a point every neighbourhood
+/// of which holds points inside and outside), or `reach` if none is found within it: the least
+/// radius r (1e-9, 1e-6 and 1e-3 of h, then steps of h/64) at which p and p + r·u, or p − r·u
+/// and p + r·u, are on two sides, u along the axes and the face and body diagonals. It needs
+/// no gradient and no zero, so it measures where Newton cannot: a face where the field jumps
+/// (ABS(X)/X changes sign at X = 0 without passing zero), where it becomes NaN, and an edge
+/// where the gradient is undefined.
+inline double boundary_within(const PointEvaluator& f, const P3& p, double h, double reach) {
+    static const std::vector<P3> directions = [] {
+        std::vector<P3> u;
+        for (int x = -1; x <= 1; ++x)
+            for (int y = -1; y <= 1; ++y)
+                for (int z = 0; z <= 1; ++z) {
+                    if (z == 0 && (y < 0 || (y == 0 && x <= 0))) continue;  // one of each ± pair
+                    const double n = std::sqrt(double(x * x + y * y + z * z));
+                    u.push_back({x / n, y / n, z / n});
+                }
+        return u;
+    }();
+    const bool here = inside(f, p);
+    auto apart_at = [&](double r) {
+        for (const P3& u : directions) {
+            const bool a = inside(f, {p[0] + r * u[0], p[1] + r * u[1], p[2] + r * u[2]});
+            const bool b = inside(f, {p[0] - r * u[0], p[1] - r * u[1], p[2] - r * u[2]});
+            if (a != here || b != here) return true;
+        }
+        return false;
+    };
+    for (double r : {1e-9 * h, 1e-6 * h, 1e-3 * h})
+        if (r < reach && apart_at(r)) return r;
+    for (int k = 1; k * h / 64 < reach; ++k)
+        if (apart_at(k * h / 64)) return k * h / 64;
+    return reach;
+}
 
 /// Newton projection onto f = 0 along the gradient, each step at most `max_step` long (so it
 /// follows the gradient to a near zero instead of jumping to a far one where |∇f| is small);
@@ -170,6 +212,17 @@ inline bool project(const PointEvaluator& f, P3& p, double tolerance, double max
         if (std::fabs(v.value) / std::sqrt(g2) < tolerance) return true;
     }
     return false;
+}
+
+/// Whether a zero Newton found is on the solid's boundary: the field has both signs within
+/// 1e-6 of a cell along its gradient (not a zero it only touches, as |x| at x = 0).
+inline bool on_boundary(const PointEvaluator& f, const P3& p, double h) {
+    const PointValue v = f(p);
+    const double g = std::sqrt(dot3(v.gradient, v.gradient));
+    if (!(g > 0) || !std::isfinite(g)) return false;
+    const double e = 1e-6 * h / g;
+    return inside(f, {p[0] + e * v.gradient[0], p[1] + e * v.gradient[1], p[2] + e * v.gradient[2]}) !=
+           inside(f, {p[0] - e * v.gradient[0], p[1] - e * v.gradient[1], p[2] - e * v.gradient[2]});
 }
 
 /// Checks `m` against the field `f` on the box [lo, hi] with cell size `h`. Points within
@@ -210,9 +263,14 @@ inline MeshCheck check_mesh(const CheckedMesh& m, const PointEvaluator& f, const
         }
         for (const P3& p0 : {a, g}) {
             if (!interior(p0)) continue;
+            // Newton's distance where it reaches the boundary; where it does not, or the
+            // boundary may be nearer another way (a face where the field jumps), the sign
+            // test, out to a cell (a point farther counts as a cell off).
             P3 p = p0;
-            if (project(f, p, 1e-12 * h, h / 16))
-                r.mesh_to_surface = std::max(r.mesh_to_surface, std::sqrt(dot3(minus(p, p0), minus(p, p0))));
+            double d = h;
+            if (project(f, p, 1e-12 * h, h / 16) && on_boundary(f, p, h)) d = std::sqrt(dot3(minus(p, p0), minus(p, p0)));
+            if (d > h / 4) d = boundary_within(f, p0, h, d);
+            if (d > r.mesh_to_surface) r.mesh_to_surface = d, r.worst_mesh_point = p0;
         }
     }
     // Self-intersections: triangles bucketed by their bounding boxes in cells of h.
@@ -253,29 +311,47 @@ inline MeshCheck check_mesh(const CheckedMesh& m, const PointEvaluator& f, const
                 if (hit) found.insert({std::min(list[i], list[j]), std::max(list[i], list[j])});
             }
     r.intersecting_pairs = found.size();
-    // Surface to mesh: points of a coarse lattice projected onto the surface.
+    // Surface to mesh: points of a coarse lattice projected onto the boundary by Newton, and
+    // the boundary points between neighbours of that lattice on two sides (by bisection:
+    // faces where the field jumps, which no projection reaches).
+    auto to_mesh = [&](const P3& p) {
+        double best = 1e300;  // triangles in the buckets within a cell (farther ones fail anyway)
+        const int64_t c[3] = {cell(p[0], 0), cell(p[1], 1), cell(p[2], 2)};
+        for (int64_t z = c[2] - 1; z <= c[2] + 1; ++z)
+            for (int64_t y = c[1] - 1; y <= c[1] + 1; ++y)
+                for (int64_t x = c[0] - 1; x <= c[0] + 1; ++x) {
+                    const auto it = buckets.find(key(x, y, z));
+                    if (it == buckets.end()) continue;
+                    for (uint32_t t : it->second) {
+                        const auto& tri = m.triangles[t];
+                        best = std::min(best, distance_to_triangle(p, m.vertices[tri[0]], m.vertices[tri[1]], m.vertices[tri[2]]));
+                    }
+                }
+        if (best > r.surface_to_mesh) r.surface_to_mesh = best, r.worst_surface_point = p;
+        ++r.samples;
+    };
     const int n = 12;
+    auto sample = [&](int i, int j, int k) {
+        return P3{lo[0] + (hi[0] - lo[0]) * (i + 0.37) / (n + 1), lo[1] + (hi[1] - lo[1]) * (j + 0.53) / (n + 1),
+                  lo[2] + (hi[2] - lo[2]) * (k + 0.29) / (n + 1)};
+    };
     for (int i = 0; i <= n; ++i)
         for (int j = 0; j <= n; ++j)
             for (int k = 0; k <= n; ++k) {
-                P3 p{lo[0] + (hi[0] - lo[0]) * (i + 0.37) / (n + 1), lo[1] + (hi[1] - lo[1]) * (j + 0.53) / (n + 1),
-                     lo[2] + (hi[2] - lo[2]) * (k + 0.29) / (n + 1)};
-                if (!project(f, p, 1e-12 * h, h) || !interior(p)) continue;
-                double best = 1e300;  // triangles in the buckets within a cell (farther ones fail anyway)
-                const int64_t c[3] = {cell(p[0], 0), cell(p[1], 1), cell(p[2], 2)};
-                for (int64_t z = c[2] - 1; z <= c[2] + 1; ++z)
-                    for (int64_t y = c[1] - 1; y <= c[1] + 1; ++y)
-                        for (int64_t x = c[0] - 1; x <= c[0] + 1; ++x) {
-                            const auto it = buckets.find(key(x, y, z));
-                            if (it == buckets.end()) continue;
-                            for (uint32_t t : it->second) {
-                                const auto& tri = m.triangles[t];
-                                best = std::min(best, distance_to_triangle(p, m.vertices[tri[0]], m.vertices[tri[1]],
-                                                                           m.vertices[tri[2]]));
-                            }
-                        }
-                r.surface_to_mesh = std::max(r.surface_to_mesh, best);
-                ++r.samples;
+                P3 p = sample(i, j, k);
+                if (project(f, p, 1e-12 * h, h) && interior(p) && on_boundary(f, p, h)) to_mesh(p);
+                for (int axis = 0; axis < 3; ++axis) {
+                    int next[3] = {i, j, k};
+                    if (++next[axis] > n) continue;
+                    P3 a = sample(i, j, k), b = sample(next[0], next[1], next[2]);
+                    const bool in_a = inside(f, a);
+                    if (in_a == inside(f, b)) continue;
+                    for (int step = 0; step < 80; ++step) {
+                        const P3 mid{(a[0] + b[0]) / 2, (a[1] + b[1]) / 2, (a[2] + b[2]) / 2};
+                        (inside(f, mid) == in_a ? a : b) = mid;
+                    }
+                    if (interior(a)) to_mesh(a);
+                }
             }
     return r;
 }

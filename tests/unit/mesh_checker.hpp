@@ -158,6 +158,14 @@ struct MeshCheck {
     P3 worst_mesh_point{}, worst_surface_point{};  ///< where each maximum is
 };
 
+/// "(x, y, z) and (x, y, z)": where the two distances are largest, for a failing check's message.
+inline std::string worst_points(const MeshCheck& r) {
+    std::ostringstream out;
+    out << "(" << r.worst_mesh_point[0] << ", " << r.worst_mesh_point[1] << ", " << r.worst_mesh_point[2] << ") and ("
+        << r.worst_surface_point[0] << ", " << r.worst_surface_point[1] << ", " << r.worst_surface_point[2] << ")";
+    return out.str();
+}
+
 /// Whether p is inside the solid: f > 0. A zero or a NaN counts as outside, as the mesher's
 /// nodes do (a NaN where SQRT's argument is negative ends the solid).
 inline bool inside(const PointEvaluator& f, const P3& p) { return f(p).value > 0; }

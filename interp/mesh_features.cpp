@@ -66,6 +66,10 @@ constexpr double kMinChainProjectedArea = 1e-11;
 /// tip) can give triangles five cells long whose middle is a cell or more away where the
 /// surface curves (bear.vm at 128 nodes: 1.4 cells).
 constexpr double kMaxCentroidDistance = 0.5;
+/// The same for a band's strips (build_band), at their centroids and edge midpoints, in
+/// cells: half the bound above, as the first-order estimate falls short of the distance
+/// where the surface curves (the pawn's collar at 41 nodes: 0.5 estimated, 0.516 measured).
+constexpr double kMaxBandDistance = 0.25;
 /// Newton's method stops when a step is below this fraction of a cell; the point is then
 /// on the feature to round-off (quadratic convergence, one step for planes).
 constexpr double kStepTolerance = 1e-13;
@@ -381,6 +385,11 @@ struct Wedge {
     bool around_nodes = false;
     Cell block;                   ///< the cells within `radius` of the span
     std::vector<uint64_t> cells;  ///< sorted: the cells with triangles joined, of the block
+    /// A band instead of trees: the crossings of a closed crease, in order round it, whose
+    /// trees are all gaps; its joined patch is an annulus, cut along the crease into two
+    /// (build_band).
+    std::vector<int> cycle;
+    std::vector<uint64_t> tube;  ///< sorted: a band's cells within `radius` of its crease's
 };
 
 /// The sharp-feature pass: traces the edge curves cell to cell, puts a vertex where each
@@ -619,7 +628,7 @@ public:
         cut_chains_at_corners();
         choose_segments(patch_of);
         corners_into_trees();
-        plan_wedges();
+        plan_wedges(patch_of);
         restore_unplanned_corners();
         plan_edge_groups(patch_of);
         plan_sheet_groups(patch_of);
@@ -643,6 +652,7 @@ public:
             while (!pending.empty()) {
                 const uint64_t id = *pending.begin();
                 pending.erase(pending.begin());
+                if (banded_.count(id)) continue;  // redone with its band (plan_wedges)
                 std::vector<Tri> triangles;
                 if (const auto wedge = wedge_of_.find(id); wedge != wedge_of_.end()) {
                     // Features in cells with no triangles: the patches around them redone together.
@@ -1607,35 +1617,66 @@ private:
 
     /// The boundary loop of a patch that is a disc, its inner vertices inside the cell.
     bool boundary_loop(const std::vector<uint32_t>& patch, const Cell& cell, std::vector<uint32_t>& loop) const {
-        std::map<std::pair<uint32_t, uint32_t>, int> directed;
-        std::set<uint32_t> vertices;
+        std::vector<std::vector<uint32_t>> rings;
+        long euler = 0;
+        if (!boundary_rings(patch, cell, rings, euler) || rings.size() != 1 || euler != 1) return false;
+        loop = std::move(rings.front());
+        return true;
+    }
+
+    /// The boundary loops of a patch whose edges are each in one triangle or two (oriented
+    /// alike) and whose boundary does not touch itself, each loop going the way its triangles
+    /// do, from its least vertex; `euler` the patch's V − E + F (1: a disc, 0 with two loops: an
+    /// annulus). False also when a vertex off the boundary lies outside the cell.
+    bool boundary_rings(const std::vector<uint32_t>& patch, const Cell& cell, std::vector<std::vector<uint32_t>>& rings,
+                        long& euler) const {
+        // Sorted vectors, not maps: a band's patch has thousands of triangles (Tor1 at 128 nodes).
+        using Edge = std::pair<uint32_t, uint32_t>;
+        std::vector<Edge> directed;
+        directed.reserve(patch.size() * 3);
         for (uint32_t t : patch)
-            for (int k = 0; k < 3; ++k) {
-                ++directed[{mesh_.triangles[t][k], mesh_.triangles[t][(k + 1) % 3]}];
-                vertices.insert(mesh_.triangles[t][k]);
-            }
-        std::map<uint32_t, uint32_t> next;
-        std::size_t undirected = 0;
-        for (const auto& [e, n] : directed) {
-            if (n != 1) return false;
-            if (directed.count({e.second, e.first})) {
+            for (int k = 0; k < 3; ++k) directed.push_back({mesh_.triangles[t][k], mesh_.triangles[t][(k + 1) % 3]});
+        std::sort(directed.begin(), directed.end());
+        if (std::adjacent_find(directed.begin(), directed.end()) != directed.end()) return false;  // twice one way
+        std::vector<Edge> next;  // the boundary edges, by their first vertex
+        std::size_t undirected = 0, vertices = 0;
+        for (std::size_t i = 0; i < directed.size(); ++i) {
+            const Edge& e = directed[i];
+            vertices += i == 0 || directed[i - 1].first != e.first;  // each vertex starts an edge of its triangles
+            if (std::binary_search(directed.begin(), directed.end(), Edge{e.second, e.first})) {
                 undirected += e.first < e.second;
                 continue;
             }
             ++undirected;
-            if (!next.emplace(e.first, e.second).second) return false;  // the boundary touches itself
+            if (!next.empty() && next.back().first == e.first) return false;  // the boundary touches itself
+            next.push_back(e);
         }
-        if (next.empty() || long(vertices.size()) - long(undirected) + long(patch.size()) != 1) return false;
-        loop.assign(1, next.begin()->first);
-        while (loop.size() <= next.size()) {
-            const auto it = next.find(loop.back());
-            if (it == next.end()) return false;
-            if (it->second == loop.front()) break;
-            loop.push_back(it->second);
+        if (next.empty()) return false;
+        euler = long(vertices) - long(undirected) + long(patch.size());
+        auto after = [&](uint32_t v) {  // v's place in `next`, or next.size()
+            const auto it = std::lower_bound(next.begin(), next.end(), Edge{v, 0});
+            return it != next.end() && it->first == v ? std::size_t(it - next.begin()) : next.size();
+        };
+        std::vector<char> placed(next.size(), 0);
+        rings.clear();
+        for (std::size_t first = 0; first < next.size(); ++first) {
+            if (placed[first]) continue;
+            placed[first] = 1;
+            std::vector<uint32_t> ring{next[first].first};
+            for (std::size_t at = first;;) {
+                const uint32_t to = next[at].second;
+                if (to == ring.front()) break;
+                at = after(to);
+                if (at == next.size() || placed[at]) return false;
+                placed[at] = 1;
+                ring.push_back(to);
+            }
+            rings.push_back(std::move(ring));
         }
-        if (loop.size() != next.size()) return false;
-        for (uint32_t v : vertices)
-            if (!next.count(v) && !cell.contains(mesh_.vertices[v], -1e-9 * cell.h)) return false;
+        for (std::size_t i = 0; i < directed.size(); ++i)
+            if ((i == 0 || directed[i - 1].first != directed[i].first) && after(directed[i].first) == next.size() &&
+                !cell.contains(mesh_.vertices[directed[i].first], -1e-9 * cell.h))
+                return false;
         return true;
     }
 
@@ -1697,20 +1738,9 @@ private:
         for (double& c : normal) c /= length;
         for (const Tri& t : triangles) {
             const Vec tn = cross(sub(positions_[t[1]], positions_[t[0]]), sub(positions_[t[2]], positions_[t[0]]));
-            if (!(dot(tn, normal) / 2 >= kMinChainProjectedArea * h * h)) return false;
-            Vec centroid{};
-            for (int a = 0; a < 3; ++a) centroid[a] = (positions_[t[0]][a] + positions_[t[1]][a] + positions_[t[2]][a]) / 3;
-            field_.at(centroid);
-            const double slope = norm(field_.gradient(0));
-            if (!(std::fabs(field_.value(0)) <= kMaxCentroidDistance * h * slope)) return false;
+            if (!(dot(tn, normal) / 2 >= kMinChainProjectedArea * h * h) || !centroid_near_surface(t, h)) return false;
         }
-        const Vec helper = std::fabs(normal[0]) < 0.6 ? Vec{1, 0, 0} : Vec{0, 1, 0};
-        Vec e1 = cross(normal, helper);
-        const double l1 = norm(e1);
-        for (double& c : e1) c /= l1;
-        const Vec e2 = cross(normal, e1);
-        std::vector<std::array<double, 2>> flat(n);
-        for (int i = 0; i < n; ++i) flat[i] = {dot(positions_[poly[i]], e1), dot(positions_[poly[i]], e2)};
+        const std::vector<std::array<double, 2>> flat = projected(poly, normal);
         for (int i = 0; i < n; ++i)
             for (int j = i + 2; j < n; ++j) {
                 if (i == 0 && j == n - 1) continue;
@@ -1718,6 +1748,32 @@ private:
             }
         out.insert(out.end(), triangles.begin(), triangles.end());
         return true;
+    }
+
+    /// Whether p is within `bound` of the surface, to first order (|f| / |∇f|).
+    bool near_surface(const Vec& p, double bound) const {
+        field_.at(p);
+        const double slope = norm(field_.gradient(0));
+        return std::fabs(field_.value(0)) <= bound * slope;
+    }
+
+    /// Whether triangle t's centroid is within kMaxCentroidDistance cells of the surface.
+    bool centroid_near_surface(const Tri& t, double h) const {
+        Vec centroid{};
+        for (int a = 0; a < 3; ++a) centroid[a] = (positions_[t[0]][a] + positions_[t[1]][a] + positions_[t[2]][a]) / 3;
+        return near_surface(centroid, kMaxCentroidDistance * h);
+    }
+
+    /// The vertices projected onto the plane across the unit vector `normal`.
+    std::vector<std::array<double, 2>> projected(const std::vector<uint32_t>& vertices, const Vec& normal) const {
+        const Vec helper = std::fabs(normal[0]) < 0.6 ? Vec{1, 0, 0} : Vec{0, 1, 0};
+        Vec e1 = cross(normal, helper);
+        const double l1 = norm(e1);
+        for (double& c : e1) c /= l1;
+        const Vec e2 = cross(normal, e1);
+        std::vector<std::array<double, 2>> flat(vertices.size());
+        for (std::size_t i = 0; i < vertices.size(); ++i) flat[i] = {dot(positions_[vertices[i]], e1), dot(positions_[vertices[i]], e2)};
+        return flat;
     }
 
     // ---- Wedges: features in cells with no triangles --------------------------------------
@@ -1764,7 +1820,7 @@ private:
 
     /// After choose_segments: the crossings that found no segment (and tips), grouped by their
     /// links into trees; each tree with links to crossings on patches becomes a wedge.
-    void plan_wedges() {
+    void plan_wedges(const std::function<std::optional<std::vector<uint32_t>>(uint64_t)>& patch_of) {
         const double h = lattice_h();
         std::vector<int> nodes;
         for (std::size_t t = 0; t < tips_.size(); ++t) nodes.push_back(-1 - int(t));
@@ -1866,6 +1922,19 @@ private:
             }
         std::map<int, Wedge> trees;
         for (int n : nodes) trees[trees_of.root(n)].nodes.push_back(n);
+        // Closed creases: trees with no tip whose crossings, with the live ones between them,
+        // go round one loop (a concave crease through cells with every node inside).
+        std::vector<Wedge> bands;
+        std::set<int> in_band;
+        for (const auto& [r, wedge] : trees) {
+            if (in_band.count(r) || std::any_of(wedge.nodes.begin(), wedge.nodes.end(), [](int n) { return n < 0; }))
+                continue;
+            Wedge band;
+            band.cycle = closed_crease(wedge.nodes.front());
+            for (int x : band.cycle)
+                if (trees_of.has(x)) in_band.insert(trees_of.root(x)), band.nodes.push_back(x);
+            if (!band.cycle.empty()) bands.push_back(std::move(band));
+        }
         std::vector<Wedge> planned;
         for (auto& [r, wedge] : trees) {
             for (int a = 0; a < 3; ++a) wedge.span[a] = {cells_[a], -1};
@@ -1913,6 +1982,93 @@ private:
             wedges_.push_back(std::move(wedge));
             group_wedge(wedges_.size() - 1);
         }
+        // Each band is redone now, before the crease's cells are one by one (a cell that fails
+        // there is fanned from a point of the crease and would leave a hole in the band); its
+        // cells are then done. If it cannot be, nothing has changed: its trees stay planned.
+        for (Wedge& band : bands) {
+            plan_band(band);
+            wedges_.push_back(std::move(band));
+            const std::size_t w = wedges_.size() - 1;
+            while (group_wedge(w)) {
+                const std::vector<uint64_t> cells = wedges_[w].cells;
+                std::vector<uint32_t> joined;
+                for (uint64_t g : cells)
+                    if (const auto patch = patch_of(g)) joined.insert(joined.end(), patch->begin(), patch->end());
+                std::vector<Tri> triangles;
+                if (build_band(wedges_[w], joined, patch_of, triangles)) {
+                    results_[cells.front()] = {std::move(joined), std::move(triangles)};
+                    banded_.insert(cells.begin(), cells.end());
+                    const std::set<int> nodes(wedges_[w].nodes.begin(), wedges_[w].nodes.end());
+                    std::erase_if(mid_edge_wedges_, [&](const Wedge& tree) { return nodes.count(tree.nodes.front()) > 0; });
+                    break;
+                }
+                for (uint64_t g : cells) wedge_of_.erase(g);
+                wedges_[w].cells.clear();
+            }
+        }
+    }
+
+    /// The crossings of the closed crease through crossing `start`, in order round it: every
+    /// crossing linked to two others of the same operation, none at a tip or a grid node the
+    /// curve passes diagonally; empty if the links do not close into such a loop.
+    std::vector<int> closed_crease(int start) const {
+        std::vector<int> cycle{start};
+        for (int x = start, before = -1;;) {
+            const auto it = partners_.find(x);
+            if (it == partners_.end() || it->second.size() != 2 || tip_crossings_.count(x) || tip_at_.count(x) ||
+                nodes_passed_.count(x) || crossings_[x].operation != crossings_[start].operation)
+                return {};
+            const int next = it->second[0] != before ? it->second[0] : it->second[1];
+            if (next == start) break;
+            if (cycle.size() >= crossings_.size()) return {};
+            before = x, x = next;
+            cycle.push_back(x);
+        }
+        return cycle.size() >= 3 ? cycle : std::vector<int>{};
+    }
+
+    /// The cells within `radius` (in every axis) of the cells crease crossings lie in.
+    std::set<uint64_t> tube_around(const std::vector<int>& cycle, int radius) const {
+        std::set<uint64_t> near, tube;
+        for (int x : cycle)
+            for (uint64_t id : cells_around(positions_[crossings_[x].vertex])) near.insert(id);
+        for (uint64_t id : near) {
+            const auto c = coords(id);
+            for (long dz = -radius; dz <= radius; ++dz)
+                for (long dy = -radius; dy <= radius; ++dy)
+                    for (long dx = -radius; dx <= radius; ++dx) {
+                        const long k[3] = {long(c[0]) + dx, long(c[1]) + dy, long(c[2]) + dz};
+                        if (k[0] >= 0 && k[1] >= 0 && k[2] >= 0 && k[0] < cells_[0] && k[1] < cells_[1] && k[2] < cells_[2])
+                            tube.insert(uint64_t(k[0]) + stride(1) * uint64_t(k[1]) + stride(2) * uint64_t(k[2]));
+                    }
+        }
+        return tube;
+    }
+
+    /// A band's seeds: the cells with triangles touching those its crossings lie in, so a
+    /// crease whose crossings all died still reaches the patches over it.
+    void plan_band(Wedge& band) const {
+        for (uint64_t id : tube_around(band.cycle, 1))
+            if (!has_patch_ || has_patch_(id)) band.seeds.push_back(id);
+    }
+
+    /// Joins the cells with triangles of band w's next wider tube round its crease (one cell,
+    /// then two), reached from its seeds across faces: a block that follows the crease, not
+    /// the box around it (round a pawn's neck that box holds patches cells away from it).
+    bool group_band(std::size_t w) {
+        Wedge& band = wedges_[w];
+        band.cells.clear();
+        while (++band.radius <= kMaxBandRadius) {
+            const std::set<uint64_t> tube = tube_around(band.cycle, band.radius);
+            std::vector<uint64_t> reached = reach_cells(band.seeds, [&](uint64_t id) { return tube.count(id) > 0; });
+            if (reached.empty()) continue;
+            band.tube.assign(tube.begin(), tube.end());
+            band.block = joined_box(band.tube);
+            band.cells = std::move(reached);
+            for (uint64_t id : band.cells) wedge_of_[id] = w;
+            return true;
+        }
+        return false;
     }
 
     /// Joins the cells with triangles of wedge w's next larger block (one cell around the
@@ -1921,6 +2077,7 @@ private:
     /// surface; false when none is left to try.
     bool group_wedge(std::size_t w) {
         Wedge& wedge = wedges_[w];
+        if (!wedge.cycle.empty()) return group_band(w);
         wedge.cells.clear();
         while (++wedge.radius <= (wedge.around_nodes ? 0 : kMaxWedgeRadius)) {
             std::array<std::pair<long, long>, 3> range;
@@ -1931,28 +2088,39 @@ private:
                 wedge.block.hi[a] = min_[a] + double(range[a].second + 1) * step_[a];
             }
             wedge.block.h = lattice_h();
-            auto eligible = [&](uint64_t id) {
+            std::vector<uint64_t> reached = reach_cells(wedge.seeds, [&](uint64_t id) {
                 const auto c = coords(id);
                 for (int a = 0; a < 3; ++a)
                     if (long(c[a]) < range[a].first || long(c[a]) > range[a].second) return false;
-                return (!has_patch_ || has_patch_(id)) && !apex_.count(id) && !groups_.count(id) && !wedge_of_.count(id);
-            };
-            std::set<uint64_t> reached;
-            std::vector<uint64_t> stack;
-            for (uint64_t id : wedge.seeds)
-                if (eligible(id) && reached.insert(id).second) stack.push_back(id);
-            while (!stack.empty()) {
-                const uint64_t id = stack.back();
-                stack.pop_back();
-                for (uint64_t next : face_neighbours(id))
-                    if (eligible(next) && reached.insert(next).second) stack.push_back(next);
-            }
+                return true;
+            });
             if (reached.empty()) continue;
-            wedge.cells.assign(reached.begin(), reached.end());
+            wedge.cells = std::move(reached);
             for (uint64_t id : wedge.cells) wedge_of_[id] = w;
             return true;
         }
         return false;
+    }
+
+    /// The cells with triangles in a block (`in_block`), not a corner's, a group's or another
+    /// wedge's, reached from `seeds` across faces among them, sorted: the joined patches are
+    /// one piece of surface.
+    std::vector<uint64_t> reach_cells(const std::vector<uint64_t>& seeds, const std::function<bool(uint64_t)>& in_block) const {
+        auto eligible = [&](uint64_t id) {
+            return in_block(id) && (!has_patch_ || has_patch_(id)) && !apex_.count(id) && !groups_.count(id) &&
+                   !wedge_of_.count(id);
+        };
+        std::set<uint64_t> reached;
+        std::vector<uint64_t> stack;
+        for (uint64_t id : seeds)
+            if (eligible(id) && reached.insert(id).second) stack.push_back(id);
+        while (!stack.empty()) {
+            const uint64_t id = stack.back();
+            stack.pop_back();
+            for (uint64_t next : face_neighbours(id))
+                if (eligible(next) && reached.insert(next).second) stack.push_back(next);
+        }
+        return {reached.begin(), reached.end()};
     }
 
     /// Whether the graph on points `inner` and `leaves` with `edges` is one piece.
@@ -2312,6 +2480,251 @@ private:
         return true;
     }
 
+    /// A band's joined patch redone: an annulus round a closed crease whose crossings fell in
+    /// cells with every node inside (a concave crease shallower than a cell: the pawn's head
+    /// on its collar), so most have no segment and the gaps' trees, sharing the crossings
+    /// between them, would compete for each other's cells. The crease cuts the annulus into
+    /// two, each lofted from its boundary ring to the crease (loft). Refused unless the
+    /// block's cells with triangles are all joined and hold no other crossing or link, and
+    /// the two rings are on the crease's two sides.
+    bool build_band(const Wedge& band, std::vector<uint32_t>& patch,
+                    const std::function<std::optional<std::vector<uint32_t>>(uint64_t)>& patch_of, std::vector<Tri>& out) {
+        const double h = band.block.h;
+        const std::set<int> on_crease(band.cycle.begin(), band.cycle.end());
+        for (uint64_t id : band.cells) {
+            for (int x : crossings_in(id))
+                if (!on_crease.count(x)) return false;
+            if (const auto it = links_.find(id); it != links_.end())
+                for (const auto& [a, b] : it->second)
+                    if (!on_crease.count(a) || !on_crease.count(b)) return false;
+        }
+        auto in_group = [&](uint64_t id) { return std::binary_search(band.cells.begin(), band.cells.end(), id); };
+        for (uint64_t id : band.tube)
+            if ((!has_patch_ || has_patch_(id)) && !in_group(id)) return false;  // its triangles could be crossed
+        std::vector<uint32_t> crease;
+        for (int x : band.cycle) {
+            const Vec& p = positions_[crossings_[x].vertex];
+            for (uint64_t id : cells_around(p))
+                if (!in_group(id) && (!has_patch_ || has_patch_(id))) return false;
+            crease.push_back(crossings_[x].vertex);
+        }
+        if (patch.empty()) return false;
+        // The triangles redone: those within one cell of the crease, else within two, else all
+        // the joined cells' (the rest stay; where a rim lies a cell beyond the crease, a strip
+        // to the tube's boundary would cut across it: the pawn's collar at 41 nodes).
+        // Distances up to two cells matter. Consecutive crease points lie on the faces of one
+        // cell, a cell diagonal apart at most, so a segment that near has an end within four
+        // cells: buckets four cells wide, each point's and the 26 around it.
+        const double bucket = 4 * h;
+        auto key = [&](const Vec& p, int dx, int dy, int dz) {
+            return std::array<long, 3>{long(std::floor(p[0] / bucket)) + dx, long(std::floor(p[1] / bucket)) + dy,
+                                       long(std::floor(p[2] / bucket)) + dz};
+        };
+        std::map<std::array<long, 3>, std::vector<std::size_t>> buckets;
+        for (std::size_t k = 0; k < crease.size(); ++k) buckets[key(positions_[crease[k]], 0, 0, 0)].push_back(k);
+        std::vector<double> distance(patch.size(), std::numeric_limits<double>::infinity());
+        for (std::size_t i = 0; i < patch.size(); ++i) {
+            const Tri& t = mesh_.triangles[patch[i]];
+            Vec c{};
+            for (int a = 0; a < 3; ++a) c[a] = (mesh_.vertices[t[0]][a] + mesh_.vertices[t[1]][a] + mesh_.vertices[t[2]][a]) / 3;
+            for (int dz = -1; dz <= 1; ++dz)
+                for (int dy = -1; dy <= 1; ++dy)
+                    for (int dx = -1; dx <= 1; ++dx)
+                        if (const auto it = buckets.find(key(c, dx, dy, dz)); it != buckets.end())
+                            for (std::size_t k : it->second)
+                                for (std::size_t other : {(k + crease.size() - 1) % crease.size(), (k + 1) % crease.size()})
+                                    distance[i] = std::min(distance[i], segment_distance(c, positions_[crease[k]], positions_[crease[other]]));
+        }
+        std::size_t tried = 0;  // the triangles of the last try (a wider one may take no more)
+        for (const double within : {1.0, 2.0, std::numeric_limits<double>::infinity()}) {
+            std::vector<uint32_t> redone, kept;
+            for (std::size_t i = 0; i < patch.size(); ++i) (distance[i] <= within * h ? redone : kept).push_back(patch[i]);
+            if (redone.size() == tried) continue;
+            tried = redone.size();
+            if (!loft_band(band, redone, kept, crease, patch_of, out)) continue;
+            patch = std::move(redone);
+            return true;
+        }
+        return false;
+    }
+
+    /// Distance from p to the segment ab.
+    static double segment_distance(const Vec& p, const Vec& a, const Vec& b) {
+        const Vec ab = sub(b, a);
+        const double length2 = dot(ab, ab);
+        const double t = length2 > 0 ? std::clamp(dot(sub(p, a), ab) / length2, 0.0, 1.0) : 0.0;
+        return norm(sub(p, Vec{a[0] + t * ab[0], a[1] + t * ab[1], a[2] + t * ab[2]}));
+    }
+
+    /// Band's triangles `redone` replaced by two strips, from each of their two boundary rings
+    /// to the crease; `kept` the joined cells' other triangles, which they must not cross.
+    bool loft_band(const Wedge& band, const std::vector<uint32_t>& redone, const std::vector<uint32_t>& kept,
+                   const std::vector<uint32_t>& crease,
+                   const std::function<std::optional<std::vector<uint32_t>>(uint64_t)>& patch_of, std::vector<Tri>& out) {
+        const Cell& box = band.block;
+        const double h = box.h;
+        std::vector<std::vector<uint32_t>> rings;
+        long euler = 0;
+        if (!boundary_rings(redone, box, rings, euler) || rings.size() != 2 || euler != 0) return false;
+        // A ring point is within radius + 1 cells of a crease point's cell along each axis.
+        const double reach = (band.radius + 2) * std::sqrt(3.0) * h;
+        std::vector<Tri> triangles;
+        std::vector<std::size_t> first_of;
+        int sides[2] = {0, 0};  // which way round the crease each ring's loft went
+        for (int r = 0; r < 2; ++r) {
+            first_of.push_back(triangles.size());
+            std::vector<Tri> best;
+            double least = std::numeric_limits<double>::infinity();
+            for (int way : {1, -1}) {
+                std::vector<uint32_t> q = crease;
+                if (way < 0) std::reverse(q.begin(), q.end());
+                std::vector<Tri> lofted;
+                double area = 0;
+                if (loft(rings[std::size_t(r)], q, h, reach, lofted, area) && area < least)
+                    best = std::move(lofted), least = area, sides[r] = way;
+            }
+            if (best.empty()) return false;
+            triangles.insert(triangles.end(), best.begin(), best.end());
+        }
+        first_of.push_back(triangles.size());
+        if (sides[0] == sides[1] || polygons_cross(triangles, first_of, h)) return false;
+        // Nor may they cross the triangles of the cells around the tube (the tube is not convex:
+        // a strip between two of its faces could leave it).
+        const std::set<uint64_t> wider = tube_around(band.cycle, band.radius + 1);
+        std::vector<Tri> around;
+        for (uint32_t t : kept) around.push_back(mesh_.triangles[t]);
+        for (uint64_t id : wider)
+            if (!std::binary_search(band.tube.begin(), band.tube.end(), id))
+                if (const auto near = patch_of(id))
+                    for (uint32_t t : *near) around.push_back(mesh_.triangles[t]);
+        if (triangles_cross(triangles, around, h)) return false;
+        std::set<std::pair<uint32_t, uint32_t>> directed;  // each edge at most once each way
+        for (const Tri& t : triangles)
+            for (int e = 0; e < 3; ++e)
+                if (!directed.insert({t[e], t[(e + 1) % 3]}).second) return false;
+        chain_edges_ += band.cycle.size();
+        out = std::move(triangles);
+        return true;
+    }
+
+    /// The strip between a patch's boundary ring and a closed crease going round the same way
+    /// (the patch on the ring's left): each triangle two points of one and one of the other,
+    /// the least total area over all such strips (dynamic programming, as contours are
+    /// joined into surfaces), none degenerate or facing against its vertices' normals. Then
+    /// checked to be a graph over the plane across its mean normal, as triangulate() does for a
+    /// polygon: its triangles keep their orientation there and neither loop crosses itself or
+    /// the other, so it cannot fold or cross itself.
+    bool loft(const std::vector<uint32_t>& ring, const std::vector<uint32_t>& crease, double h, double reach,
+              std::vector<Tri>& out, double& total) const {
+        const std::size_t m = ring.size(), n = crease.size();
+        if (m < 3 || n < 3 || (m + 1) * (n + 1) > kMaxLoftSize) return false;
+        std::size_t shift = 0;  // the strip starts from the ring's first point to the crease's nearest
+        for (std::size_t j = 1; j < n; ++j)
+            if (norm(sub(positions_[crease[j]], positions_[ring[0]])) < norm(sub(positions_[crease[shift]], positions_[ring[0]])))
+                shift = j;
+        auto p = [&](std::size_t i) { return ring[i % m]; };
+        auto q = [&](std::size_t j) { return crease[(j + shift) % n]; };
+        const double inf = std::numeric_limits<double>::infinity();
+        // A triangle's area, or infinity where it is degenerate, faces against its vertices'
+        // normals, has an edge longer than `reach` (no strip of the band has: most pairs of
+        // points are ruled out before the field is evaluated), or leaves the surface: its
+        // centroid and edge midpoints within kMaxBandDistance cells (a strip two cells wide
+        // must not cut across a rim beside the crease, the pawn's collar at 41 nodes).
+        auto area_of = [&](uint32_t a, uint32_t b, uint32_t c) {
+            const Vec &u = positions_[a], &v = positions_[b], &w = positions_[c];
+            if (norm(sub(u, v)) > reach || norm(sub(v, w)) > reach || norm(sub(w, u)) > reach) return inf;
+            const Vec tn = cross(sub(v, u), sub(w, u));
+            Vec normals{0, 0, 0};
+            for (uint32_t x : {a, b, c})
+                for (int k = 0; k < 3; ++k) normals[k] += normals_[x][k];
+            const double area = norm(tn) / 2;
+            if (!(area >= kMinChainArea * h * h) || !(dot(tn, normals) > 0)) return inf;
+            for (const Vec& point : {Vec{(u[0] + v[0] + w[0]) / 3, (u[1] + v[1] + w[1]) / 3, (u[2] + v[2] + w[2]) / 3},
+                                     Vec{(u[0] + v[0]) / 2, (u[1] + v[1]) / 2, (u[2] + v[2]) / 2},
+                                     Vec{(v[0] + w[0]) / 2, (v[1] + w[1]) / 2, (v[2] + w[2]) / 2},
+                                     Vec{(w[0] + u[0]) / 2, (w[1] + u[1]) / 2, (w[2] + u[2]) / 2}})
+                if (!near_surface(point, kMaxBandDistance * h)) return inf;
+            return area;
+        };
+        const std::size_t width = n + 1;
+        std::vector<double> cost((m + 1) * width, inf);
+        std::vector<char> along_ring((m + 1) * width, 0);  // the last step: 1 along the ring, 0 along the crease
+        cost[0] = 0;
+        for (std::size_t i = 0; i <= m; ++i)
+            for (std::size_t j = 0; j <= n; ++j) {
+                double& c = cost[i * width + j];
+                if (i > 0 && cost[(i - 1) * width + j] < inf) {
+                    const double next = cost[(i - 1) * width + j] + area_of(p(i - 1), p(i), q(j));
+                    if (next < c) c = next, along_ring[i * width + j] = 1;
+                }
+                if (j > 0 && cost[i * width + j - 1] < inf) {
+                    const double next = cost[i * width + j - 1] + area_of(p(i), q(j), q(j - 1));
+                    if (next < c) c = next, along_ring[i * width + j] = 0;
+                }
+            }
+        total = cost[m * width + n];
+        if (!(total < inf)) return false;
+        std::vector<Tri> triangles;
+        for (std::size_t i = m, j = n; i > 0 || j > 0;) {
+            if (along_ring[i * width + j]) triangles.push_back({p(i - 1), p(i), q(j)}), --i;
+            else triangles.push_back({p(i), q(j), q(j - 1)}), --j;
+        }
+        Vec normal{0, 0, 0};
+        for (const Tri& t : triangles) {
+            const Vec tn = cross(sub(positions_[t[1]], positions_[t[0]]), sub(positions_[t[2]], positions_[t[0]]));
+            for (int a = 0; a < 3; ++a) normal[a] += tn[a];
+        }
+        const double length = norm(normal);
+        if (!(length > 0)) return false;
+        for (double& c : normal) c /= length;
+        for (const Tri& t : triangles) {
+            const Vec tn = cross(sub(positions_[t[1]], positions_[t[0]]), sub(positions_[t[2]], positions_[t[0]]));
+            if (!(dot(tn, normal) / 2 >= kMinChainProjectedArea * h * h)) return false;
+        }
+        std::vector<uint32_t> both(ring);
+        both.insert(both.end(), crease.begin(), crease.end());
+        const std::vector<std::array<double, 2>> flat = projected(both, normal);
+        auto segment = [&](std::size_t k) {  // the segment from point k to the next on its loop
+            return k < m ? std::pair{k, (k + 1) % m} : std::pair{k, m + (k - m + 1) % n};
+        };
+        for (std::size_t a = 0; a < m + n; ++a)
+            for (std::size_t b = a + 1; b < m + n; ++b) {
+                const auto [a0, a1] = segment(a);
+                const auto [b0, b1] = segment(b);
+                if (a1 == b0 || b1 == a0) continue;  // neighbours on one loop
+                if (segments_cross_2d(flat[a0], flat[a1], flat[b0], flat[b1], 1e-12 * h * h)) return false;
+            }
+        out = std::move(triangles);
+        return true;
+    }
+
+    /// Whether a triangle of `ours` crosses one of `theirs` (an edge of one through the other;
+    /// shared vertices and edges do not count), their bounding boxes compared first.
+    bool triangles_cross(const std::vector<Tri>& ours, const std::vector<Tri>& theirs, double h) const {
+        const double eps = 1e-12 * h * h * h;
+        const auto& P = positions_;
+        auto bounds = [&](const Tri& t) {
+            std::array<Vec, 2> b{P[t[0]], P[t[0]]};
+            for (uint32_t v : t)
+                for (int a = 0; a < 3; ++a) b[0][a] = std::min(b[0][a], P[v][a]), b[1][a] = std::max(b[1][a], P[v][a]);
+            return b;
+        };
+        for (const Tri& x : ours) {
+            const auto bx = bounds(x);
+            for (const Tri& y : theirs) {
+                const auto by = bounds(y);
+                bool apart = false;
+                for (int a = 0; a < 3; ++a) apart |= bx[1][a] < by[0][a] || by[1][a] < bx[0][a];
+                if (apart) continue;
+                for (int e = 0; e < 3; ++e)
+                    if (segment_through_triangle(P[x[e]], P[x[(e + 1) % 3]], P[y[0]], P[y[1]], P[y[2]], eps) ||
+                        segment_through_triangle(P[y[e]], P[y[(e + 1) % 3]], P[x[0]], P[x[1]], P[x[2]], eps))
+                        return true;
+            }
+        }
+        return false;
+    }
+
     /// Whether a triangle of one polygon crosses one of another (first_of: where each
     /// polygon's triangles start, then the end): the two sides of an edge must not cross.
     bool polygons_cross(const std::vector<Tri>& triangles, const std::vector<std::size_t>& first_of, double h) const {
@@ -2575,6 +2988,10 @@ private:
     static constexpr int kMaxStepsInCell = 64;
     static constexpr int kStepHalvings = 7;  ///< down to 1/256 of a cell
     static constexpr int kMaxWedgeRadius = 3;
+    /// A band wider than two cells round its crease takes in more of the surface than the
+    /// crease's rounding needs, and two lofts across it would cut the surface's curvature.
+    static constexpr int kMaxBandRadius = 2;
+    static constexpr std::size_t kMaxLoftSize = std::size_t(1) << 22;  ///< ring × crease points
     static constexpr int kMaxWedgePolygon = 256;
 
     mutable FeatureField field_;   ///< evaluation scratch: const checks evaluate too
@@ -2604,6 +3021,7 @@ private:
     std::vector<Wedge> wedges_;
     std::vector<Wedge> mid_edge_wedges_;  ///< trees without a tip, grouped after the others are built
     std::map<uint64_t, std::size_t> wedge_of_;            ///< a wedge's cells → the wedge
+    std::set<uint64_t> banded_;                           ///< the cells of the bands redone
     std::vector<uint64_t> corner_cells_;
     std::map<uint64_t, uint32_t> apex_;
     std::map<uint64_t, std::vector<int>> apex_equations_;

@@ -37,6 +37,11 @@
 // A node the curve passes from one cell into the one across it in all three axes is such a
 // tree's node too, its block only the cells around it: no segment can take it without
 // folding those cells.
+// A closed crease whose trees are all gaps (a concave crease shallower than a cell: its
+// crossings fall in cells with every node inside, and the trees, sharing the crossings
+// between them, would compete for each other's cells) is redone as one band: the annulus of
+// surface round it, within a cell or two, replaced by two strips of least area from its
+// boundary rings to the crease.
 #pragma once
 
 #include "interp/ir/ir.hpp"

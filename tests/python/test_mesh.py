@@ -147,7 +147,7 @@ def test_ctrl_c_stops_a_long_mesh():
     start = time.monotonic()
     timer.start()
     with pytest.raises(KeyboardInterrupt):
-        m.mesh(size=513)   # about two minutes if not stopped (README "Meshes")
+        m.mesh(size=513)   # about two minutes if not stopped (docs/meshing.md)
     elapsed = time.monotonic() - start
     timer.join()
     assert elapsed < 5, elapsed

@@ -92,7 +92,7 @@ test::MeshCheck mesh_and_check(const Case& c, const test::ScratchDir& dir, doubl
 
 /// The distance bound, in cells, where marching tetrahedra's cut of a sharp edge stays (up to
 /// a cell's half diagonal, √3/2, as its vertices lie on grid edges): a part thinner than a
-/// cell, a corner in a cell with no node inside, a field that jumps (README "Meshes").
+/// cell, a corner in a cell with no node inside, a field that jumps (docs/meshing.md).
 constexpr double kMarchingCut = 0.87;
 
 const char* kBox = "ARGUMENT X, Y, Z;\nRETURN (1 - X^2) & (0.75^2 - Y^2) & (0.5^2 - Z^2);\n";
@@ -163,7 +163,7 @@ TEST_CASE("meshes of RANOK scripts on their header domains and of the 3D example
     // at 41 nodes. Within half a cell both ways at the checker's samples (the pawn's rims,
     // r = 3 at y = 0 and 0.4375, its base thinner than the 0.45 cells there, are on mesh
     // edges; the crease where its head meets the collar, which the samples miss, is up to 0.54
-    // cells off at this size: README "Meshes"), but for the slit of Chainik's spout, 0.4 wide
+    // cells off at this size: docs/meshing.md), but for the slit of Chainik's spout, 0.4 wide
     // under cells of 0.4: up to 1.7 cells of its faces with no mesh.
     const struct {
         const char* script;
@@ -190,7 +190,7 @@ TEST_CASE("a concave crease shallower than a cell is on the mesh: the pawn's nec
     // The pawn's head (E4) and collar (E5) meet in a circle, and the collar meets the body's
     // spire (E1) in another, both concave creases that dip into cells with every node inside,
     // so most of their traced crossings have no patch segment to go into; each is redone as
-    // one band round the crease (README "Meshes"). The circles, from the script's formulas:
+    // one band round the crease (docs/meshing.md). The circles, from the script's formulas:
     // E4 = E5 = 0 on x² + z² = r², and E1 = E5 = 0 (the lower one, found by bisection).
     const std::string path = shared_script("Pawn.fortu");
     if (!std::filesystem::exists(path)) return;
@@ -556,7 +556,7 @@ TEST_CASE("sharp edges are chains of mesh edges through the traced curve, and co
             // z = x thickened to |z − x| ≤ 0.3, cut by the planes through its sides. The edge
             // through (1, 0, 1) is 39°: its wedge is thinner than a cell there, its cells have no
             // triangles (all eight nodes outside), and the cells around the traced edge and its
-            // two corners are redone together (README "Meshes", acute edges and tips); so are the
+            // two corners are redone together (docs/meshing.md, "Acute edges and tips"); so are the
             // cells around the crossings of the other edges that found no segment (in the middle
             // of an edge). At 37 nodes the 39° edge's cells are all empty and it is traced from
             // the patches beside it. All six corners and all nine edges exact at 21, 27, 29, 31,
@@ -665,7 +665,7 @@ TEST_CASE("every 3D RANOK script, bear.vm and the FLOZ3 sphere mesh with no --do
         check_closed_solid(r);
         // The bound in cells: half a cell, smooth or sharp (the feature pass puts the edges
         // back: Pawn 0.37 at most; Pawn1's head–collar crease, which the samples miss, is 0.57
-        // cells off: README "Meshes"), measured on the solid's boundary (where the field
+        // cells off: docs/meshing.md), measured on the solid's boundary (where the field
         // changes sign), so Tor3's jump (ABS(X)/X at X = 0, meshed there) is within 0.31
         // (Tor3_New 0.40) and the zeros mytest and sphere_modul only touch are not surface.
         // Beyond it:
@@ -733,7 +733,7 @@ TEST_CASE("sharp edges and corners on grid nodes, grid edges and cell faces stay
             // 0.5 cells off mesh edges; now every piece is on mesh edges. The edge y = z > 0
             // also touches the grid edge y = z = 1 at the node (0, 1, 1) on [-1.2, 1.2]³: there
             // marching tetrahedra's vertex, 1/1000 of a cell off, stays, and the piece after it
-            // is up to 0.98% of a cell off at 25 nodes (README "Meshes"). At 13 a fan from a
+            // is up to 0.98% of a cell off at 25 nodes (docs/meshing.md). At 13 a fan from a
             // point of the curve in the cell beside the node takes that piece: 2.8% of a cell
             // off the chord between the crossings, but 0.9% off the curve itself, where the
             // chord is 3.6% off.

@@ -2535,11 +2535,43 @@ private:
                                 for (std::size_t other : {(k + crease.size() - 1) % crease.size(), (k + 1) % crease.size()})
                                     distance[i] = std::min(distance[i], segment_distance(c, positions_[crease[k]], positions_[crease[other]]));
         }
+        // Each triangle's neighbours across its edges, within the patch (patch.size(): none).
+        std::vector<std::pair<std::pair<uint32_t, uint32_t>, std::size_t>> edges;  // directed edge → triangle
+        edges.reserve(patch.size() * 3);
+        for (std::size_t i = 0; i < patch.size(); ++i)
+            for (int e = 0; e < 3; ++e) {
+                const Tri& t = mesh_.triangles[patch[i]];
+                edges.push_back({{t[e], t[(e + 1) % 3]}, i});
+            }
+        std::sort(edges.begin(), edges.end());
+        std::vector<std::array<std::size_t, 3>> across(patch.size());
+        for (std::size_t i = 0; i < patch.size(); ++i)
+            for (int e = 0; e < 3; ++e) {
+                const Tri& t = mesh_.triangles[patch[i]];
+                const std::pair<uint32_t, uint32_t> back{t[(e + 1) % 3], t[e]};
+                const auto it = std::lower_bound(edges.begin(), edges.end(), std::pair{back, std::size_t{0}});
+                across[i][e] = it != edges.end() && it->first == back ? it->second : patch.size();
+            }
+        // Tried in turn: the triangles within one cell of the crease, within two, then all. Each
+        // set smoothed so its rings run along the crease, not out and back (a strip's triangle
+        // on such a step would stand on its edge): a triangle of the set with one neighbour in
+        // it (a spike) leaves, one outside with two or more (a notch) joins.
         std::size_t tried = 0;  // the triangles of the last try (a wider one may take no more)
         for (const double within : {1.0, 2.0, std::numeric_limits<double>::infinity()}) {
+            std::vector<char> in(patch.size());
+            for (std::size_t i = 0; i < patch.size(); ++i) in[i] = distance[i] <= within * h;
+            for (int round = 0; round < 4; ++round) {
+                bool changed = false;
+                for (std::size_t i = 0; i < patch.size(); ++i) {
+                    int inside = 0;
+                    for (std::size_t j : across[i]) inside += j < patch.size() && in[j];
+                    if ((in[i] && inside <= 1) || (!in[i] && inside >= 2)) in[i] = !in[i], changed = true;
+                }
+                if (!changed) break;
+            }
             std::vector<uint32_t> redone, kept;
-            for (std::size_t i = 0; i < patch.size(); ++i) (distance[i] <= within * h ? redone : kept).push_back(patch[i]);
-            if (redone.size() == tried) continue;
+            for (std::size_t i = 0; i < patch.size(); ++i) (in[i] ? redone : kept).push_back(patch[i]);
+            if (redone.empty() || redone.size() == tried) continue;
             tried = redone.size();
             if (!loft_band(band, redone, kept, crease, patch_of, out)) continue;
             patch = std::move(redone);

@@ -531,6 +531,13 @@ public:
         return true;
     }
 
+    /// Whether every cell with triangles whose closed box holds p is one of `joined` (sorted).
+    bool patches_around_joined(const Vec& p, const std::vector<uint64_t>& joined) const {
+        for (uint64_t id : cells_around(p))
+            if (!std::binary_search(joined.begin(), joined.end(), id) && (!has_patch_ || has_patch_(id))) return false;
+        return true;
+    }
+
     /// The cells whose closed box holds both p and q.
     std::vector<uint64_t> cells_holding(const Vec& p, const Vec& q) const {
         const std::vector<uint64_t> other = cells_around(q);
@@ -1736,17 +1743,36 @@ private:
         const double length = norm(normal);
         if (!(length > 0)) return false;
         for (double& c : normal) c /= length;
-        for (const Tri& t : triangles) {
-            const Vec tn = cross(sub(positions_[t[1]], positions_[t[0]]), sub(positions_[t[2]], positions_[t[0]]));
-            if (!(dot(tn, normal) / 2 >= kMinChainProjectedArea * h * h) || !centroid_near_surface(t, h)) return false;
-        }
-        const std::vector<std::array<double, 2>> flat = projected(poly, normal);
-        for (int i = 0; i < n; ++i)
-            for (int j = i + 2; j < n; ++j) {
-                if (i == 0 && j == n - 1) continue;
-                if (segments_cross_2d(flat[i], flat[(i + 1) % n], flat[j], flat[(j + 1) % n], 1e-12 * h * h)) return false;
-            }
+        for (const Tri& t : triangles)
+            if (!(dot(area_normal(t), normal) / 2 >= kMinChainProjectedArea * h * h) || !centroid_near_surface(t, h)) return false;
+        if (!loops_simple({poly}, normal, h)) return false;
         out.insert(out.end(), triangles.begin(), triangles.end());
+        return true;
+    }
+
+    /// Triangle t's normal, its length twice the area.
+    Vec area_normal(const Tri& t) const {
+        return cross(sub(positions_[t[1]], positions_[t[0]]), sub(positions_[t[2]], positions_[t[0]]));
+    }
+
+    /// Whether closed loops of vertices, projected across the unit vector `normal`, are simple
+    /// and apart: no two of their segments cross, but neighbours on one loop.
+    bool loops_simple(const std::vector<std::vector<uint32_t>>& loops, const Vec& normal, double h) const {
+        std::vector<uint32_t> points;
+        std::vector<std::pair<std::size_t, std::size_t>> segments;
+        for (const auto& loop : loops) {
+            const std::size_t first = points.size();
+            points.insert(points.end(), loop.begin(), loop.end());
+            for (std::size_t k = 0; k < loop.size(); ++k) segments.push_back({first + k, first + (k + 1) % loop.size()});
+        }
+        const std::vector<std::array<double, 2>> flat = projected(points, normal);
+        for (std::size_t a = 0; a < segments.size(); ++a)
+            for (std::size_t b = a + 1; b < segments.size(); ++b) {
+                const auto [a0, a1] = segments[a];
+                const auto [b0, b1] = segments[b];
+                if (a1 == b0 || b1 == a0) continue;  // neighbours on one loop
+                if (segments_cross_2d(flat[a0], flat[a1], flat[b0], flat[b1], 1e-12 * h * h)) return false;
+            }
         return true;
     }
 
@@ -2280,9 +2306,7 @@ private:
                 const auto two = cells_of_face(crossings_[x].face);
                 return in_group(two[0]) && in_group(two[1]);
             }
-            for (uint64_t id : cells_around(positions_[crossings_[x].vertex]))
-                if (!in_group(id) && (!has_patch_ || has_patch_(id))) return false;
-            return true;
+            return patches_around_joined(positions_[crossings_[x].vertex], wedge.cells);
         };
         // The tree: from its nodes through the crossings inside the joined cells, up to the
         // crossings on the ring (its leaves).
@@ -2372,9 +2396,8 @@ private:
         for (int x : inner)  // a branch ending inside would be on no face: that point lost
             if (adjacent[x].size() < 2) return false;
         for (int x : inner) {  // inside the block, and on no cell with triangles outside the group
-            if (!box.contains(node_position(x), 1e-12 * h)) return false;
-            for (uint64_t id : cells_around(node_position(x)))
-                if (!in_group(id) && (!has_patch_ || has_patch_(id))) return false;
+            if (!box.contains(node_position(x), 1e-12 * h) || !patches_around_joined(node_position(x), wedge.cells))
+                return false;
         }
         std::vector<std::pair<std::size_t, int>> ends;  // leaves by their place on the ring
         for (int x : leaves) {
@@ -2503,9 +2526,7 @@ private:
             if ((!has_patch_ || has_patch_(id)) && !in_group(id)) return false;  // its triangles could be crossed
         std::vector<uint32_t> crease;
         for (int x : band.cycle) {
-            const Vec& p = positions_[crossings_[x].vertex];
-            for (uint64_t id : cells_around(p))
-                if (!in_group(id) && (!has_patch_ || has_patch_(id))) return false;
+            if (!patches_around_joined(positions_[crossings_[x].vertex], band.cells)) return false;
             crease.push_back(crossings_[x].vertex);
         }
         if (patch.empty()) return false;
@@ -2665,7 +2686,7 @@ private:
         auto area_of = [&](uint32_t a, uint32_t b, uint32_t c) {
             const Vec &u = positions_[a], &v = positions_[b], &w = positions_[c];
             if (norm(sub(u, v)) > reach || norm(sub(v, w)) > reach || norm(sub(w, u)) > reach) return inf;
-            const Vec tn = cross(sub(v, u), sub(w, u));
+            const Vec tn = area_normal({a, b, c});
             Vec normals{0, 0, 0};
             for (uint32_t x : {a, b, c})
                 for (int k = 0; k < 3; ++k) normals[k] += normals_[x][k];
@@ -2703,29 +2724,15 @@ private:
         }
         Vec normal{0, 0, 0};
         for (const Tri& t : triangles) {
-            const Vec tn = cross(sub(positions_[t[1]], positions_[t[0]]), sub(positions_[t[2]], positions_[t[0]]));
+            const Vec tn = area_normal(t);
             for (int a = 0; a < 3; ++a) normal[a] += tn[a];
         }
         const double length = norm(normal);
         if (!(length > 0)) return false;
         for (double& c : normal) c /= length;
-        for (const Tri& t : triangles) {
-            const Vec tn = cross(sub(positions_[t[1]], positions_[t[0]]), sub(positions_[t[2]], positions_[t[0]]));
-            if (!(dot(tn, normal) / 2 >= kMinChainProjectedArea * h * h)) return false;
-        }
-        std::vector<uint32_t> both(ring);
-        both.insert(both.end(), crease.begin(), crease.end());
-        const std::vector<std::array<double, 2>> flat = projected(both, normal);
-        auto segment = [&](std::size_t k) {  // the segment from point k to the next on its loop
-            return k < m ? std::pair{k, (k + 1) % m} : std::pair{k, m + (k - m + 1) % n};
-        };
-        for (std::size_t a = 0; a < m + n; ++a)
-            for (std::size_t b = a + 1; b < m + n; ++b) {
-                const auto [a0, a1] = segment(a);
-                const auto [b0, b1] = segment(b);
-                if (a1 == b0 || b1 == a0) continue;  // neighbours on one loop
-                if (segments_cross_2d(flat[a0], flat[a1], flat[b0], flat[b1], 1e-12 * h * h)) return false;
-            }
+        for (const Tri& t : triangles)
+            if (!(dot(area_normal(t), normal) / 2 >= kMinChainProjectedArea * h * h)) return false;
+        if (!loops_simple({ring, crease}, normal, h)) return false;
         out = std::move(triangles);
         return true;
     }

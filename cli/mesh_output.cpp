@@ -62,7 +62,8 @@ int run_mesh_output(const Model& model, const Grid& grid, const CliOptions& o, d
         "model: {}\nmesh: {} triangles, {} vertices, {}x{}x{} nodes, x [{}, {}], y [{}, {}], z [{}, {}]\n"
         "octree: {} boxes tested, {} leaves of 8^3 cells, {} nodes evaluated ({:.2f}% of {}), "
         "{} edge solves for {} vertices\n"
-        "sharp features: {} cells tested, {} vertices on edges, {} at corners, {} mesh edges along them\n"
+        "sharp features: {} cells tested, {} vertices on edges, {} at corners, {} mesh edges along them, "
+        "{} edge crossings off the mesh\n"
         "time: compile {:.3f} s, mesh {:.3f} s, write {:.3f} s\n"
         "peak memory: {} meshing, {} in all\n",
         shown_script_name(o.positional[0]), mesh.triangles.size(), mesh.vertices.size(), grid.cols(), grid.rows(),
@@ -70,7 +71,8 @@ int run_mesh_output(const Model& model, const Grid& grid, const CliOptions& o, d
         grid.x.min, grid.x.max, grid.y.min, grid.y.max, grid.z.min, grid.z.max, stats.boxes, stats.leaves,
         stats.node_evaluations, 100.0 * double(stats.node_evaluations) / double(grid.points()),
         format_operations(double(grid.points())), stats.edge_evaluations, stats.crossing_edges, stats.features.cells_tested,
-        stats.features.edge_vertices, stats.features.corner_vertices, stats.features.chain_edges, compile_seconds,
+        stats.features.edge_vertices, stats.features.corner_vertices, stats.features.chain_edges,
+        stats.features.crossings_off_mesh, compile_seconds,
         mesh_seconds, write_seconds, format_bytes(mesh_peak), format_bytes(peak_rss_bytes()));
     return 0;
 }

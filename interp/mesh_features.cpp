@@ -5,6 +5,7 @@
 #include "interp/lane_kernel.hpp"
 #include "interp/tape.hpp"
 #include "interp/written_r_operations.hpp"
+#include "runtime/mesh_compare.hpp"
 
 #include <algorithm>
 #include <array>
@@ -754,6 +755,7 @@ public:
             for (uint32_t t : result.first) removed[t] = 1;
         for (std::size_t t = 0; t < mesh_.triangles.size(); ++t)
             if (!removed[t]) triangles.push_back(mesh_.triangles[t]);
+        first_redone_ = triangles.size();
         for (const auto& [id, result] : results_) triangles.insert(triangles.end(), result.second.begin(), result.second.end());
         std::vector<uint32_t> renumber(positions_.size(), UINT32_MAX);
         for (const Tri& t : triangles)
@@ -769,6 +771,61 @@ public:
             for (uint32_t& v : t) v = renumber[v];
         out.triangles = std::move(triangles);
         mesh_ = std::move(out);
+        in_mesh_.resize(positions_.size());
+        for (std::size_t v = 0; v < positions_.size(); ++v) in_mesh_[v] = renumber[v] != UINT32_MAX;
+    }
+
+    /// The crossings the finished mesh does not reach (within a billionth of a cell): neither
+    /// a vertex nor on a redone triangle or chain edge through its point. Where a gap's block
+    /// or a cell failed, the marching-tetrahedra surface cuts the edge there (it meets an edge
+    /// curve off its own vertices only by chance, so its triangles are not searched).
+    /// After finish().
+    std::size_t crossings_off_mesh() const {
+        const double h = lattice_h();
+        auto cell_of = [&](double c, int a) {
+            return std::clamp(long(std::floor((c - min_[a]) / step_[a])), 0L, long(cells_[a]) - 1);
+        };
+        auto id_of = [&](long x, long y, long z) { return uint64_t(x) + stride(1) * uint64_t(y) + stride(2) * uint64_t(z); };
+        std::vector<int> left;  // the crossings that are no vertex of the mesh, and the cells around them
+        std::unordered_map<uint64_t, std::vector<uint32_t>> near;  // such a cell → the triangles whose bounding box meets it
+        for (std::size_t x = 0; x < crossings_.size(); ++x)
+            if (!in_mesh_[crossings_[x].vertex]) {
+                left.push_back(int(x));
+                for (uint64_t id : cells_around(positions_[crossings_[x].vertex])) near[id];
+            }
+        if (left.empty()) return 0;
+        for (std::size_t t = first_redone_; t < mesh_.triangles.size(); ++t) {
+            const Tri& tri = mesh_.triangles[t];
+            const Vec &p = mesh_.vertices[tri[0]], &q = mesh_.vertices[tri[1]], &r = mesh_.vertices[tri[2]];
+            long lo[3], hi[3];  // the cells it meets, not those it only touches (most vertices are on cell edges)
+            for (int a = 0; a < 3; ++a) {
+                lo[a] = cell_of(std::min({p[a], q[a], r[a]}) + 1e-9 * h, a);
+                hi[a] = std::max(lo[a], cell_of(std::max({p[a], q[a], r[a]}) - 1e-9 * h, a));
+            }
+            for (long z = lo[2]; z <= hi[2]; ++z)
+                for (long y = lo[1]; y <= hi[1]; ++y)
+                    for (long x = lo[0]; x <= hi[0]; ++x)
+                        if (const auto it = near.find(id_of(x, y, z)); it != near.end()) it->second.push_back(uint32_t(t));
+        }
+        std::size_t off = 0;
+        for (int x : left) {
+            const Vec& q = positions_[crossings_[x].vertex];
+            bool reached = false;
+            for (uint64_t id : cells_around(q)) {
+                const auto it = near.find(id);
+                if (it == near.end()) continue;
+                for (uint32_t t : it->second) {
+                    const Tri& tri = mesh_.triangles[t];
+                    if (point_triangle_distance(q, mesh_.vertices[tri[0]], mesh_.vertices[tri[1]], mesh_.vertices[tri[2]]) <= 1e-9 * h) {
+                        reached = true;
+                        break;
+                    }
+                }
+                if (reached) break;
+            }
+            off += !reached;
+        }
+        return off;
     }
 
 private:
@@ -3061,6 +3118,8 @@ private:
     std::vector<Wedge> mid_edge_wedges_;  ///< trees without a tip, grouped after the others are built
     std::map<uint64_t, std::size_t> wedge_of_;            ///< a wedge's cells → the wedge
     std::set<uint64_t> banded_;                           ///< the cells of the bands redone
+    std::vector<char> in_mesh_;  ///< per position, whether the finished mesh has it as a vertex
+    std::size_t first_redone_ = 0;  ///< the finished mesh's first triangle of a redone patch
     std::vector<uint64_t> corner_cells_;
     std::map<uint64_t, uint32_t> apex_;
     std::map<uint64_t, std::vector<int>> apex_equations_;
@@ -3101,6 +3160,7 @@ void sharpen_features(const ir::Graph& graph, ir::NodeId root, const Grid& grid,
             },
             local);
         builder.finish();
+        local.crossings_off_mesh = builder.crossings_off_mesh();
     }
     if (stats) *stats = local;
 }

@@ -20,34 +20,6 @@ using Vec = std::array<double, 3>;
 Vec sub(const Vec& a, const Vec& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
 double dot(const Vec& a, const Vec& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
-/// Distance from p to triangle abc (Ericson, Real-Time Collision Detection §5.1.5).
-double point_triangle_distance(const Vec& p, const Vec& a, const Vec& b, const Vec& c) {
-    const Vec ab = sub(b, a), ac = sub(c, a), ap = sub(p, a);
-    auto at = [&](double v, double w) {
-        const Vec q{a[0] + ab[0] * v + ac[0] * w, a[1] + ab[1] * v + ac[1] * w, a[2] + ab[2] * v + ac[2] * w};
-        const Vec d = sub(p, q);
-        return std::sqrt(dot(d, d));
-    };
-    const double d1 = dot(ab, ap), d2 = dot(ac, ap);
-    if (d1 <= 0 && d2 <= 0) return at(0, 0);
-    const Vec bp = sub(p, b);
-    const double d3 = dot(ab, bp), d4 = dot(ac, bp);
-    if (d3 >= 0 && d4 <= d3) return at(1, 0);
-    const double vc = d1 * d4 - d3 * d2;
-    if (vc <= 0 && d1 >= 0 && d3 <= 0) return at(d1 / (d1 - d3), 0);
-    const Vec cp = sub(p, c);
-    const double d5 = dot(ab, cp), d6 = dot(ac, cp);
-    if (d6 >= 0 && d5 <= d6) return at(0, 1);
-    const double vb = d5 * d2 - d1 * d6;
-    if (vb <= 0 && d2 >= 0 && d6 <= 0) return at(0, d2 / (d2 - d6));
-    const double va = d3 * d6 - d5 * d4;
-    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-        const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-        return at(1 - w, w);
-    }
-    const double denom = 1.0 / (va + vb + vc);
-    return at(vb * denom, vc * denom);
-}
 
 /// Triangles of a mesh in cubic buckets, for nearest-triangle queries.
 class TriangleBuckets {
@@ -123,6 +95,35 @@ double one_sided(const Mesh& from, const TriangleBuckets& to) {
 }
 
 }  // namespace
+
+/// Distance from p to triangle abc (Ericson, Real-Time Collision Detection §5.1.5).
+double point_triangle_distance(const Vec& p, const Vec& a, const Vec& b, const Vec& c) {
+    const Vec ab = sub(b, a), ac = sub(c, a), ap = sub(p, a);
+    auto at = [&](double v, double w) {
+        const Vec q{a[0] + ab[0] * v + ac[0] * w, a[1] + ab[1] * v + ac[1] * w, a[2] + ab[2] * v + ac[2] * w};
+        const Vec d = sub(p, q);
+        return std::sqrt(dot(d, d));
+    };
+    const double d1 = dot(ab, ap), d2 = dot(ac, ap);
+    if (d1 <= 0 && d2 <= 0) return at(0, 0);
+    const Vec bp = sub(p, b);
+    const double d3 = dot(ab, bp), d4 = dot(ac, bp);
+    if (d3 >= 0 && d4 <= d3) return at(1, 0);
+    const double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0) return at(d1 / (d1 - d3), 0);
+    const Vec cp = sub(p, c);
+    const double d5 = dot(ab, cp), d6 = dot(ac, cp);
+    if (d6 >= 0 && d5 <= d6) return at(0, 1);
+    const double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0) return at(0, d2 / (d2 - d6));
+    const double va = d3 * d6 - d5 * d4;
+    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+        const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        return at(1 - w, w);
+    }
+    const double denom = 1.0 / (va + vb + vc);
+    return at(vb * denom, vc * denom);
+}
 
 MeshTopology mesh_topology(const Mesh& mesh) {
     MeshTopology t;

@@ -10,6 +10,7 @@
 #include "runtime/mesh.hpp"
 #include "runtime/output_formats.hpp"
 
+#include <array>
 #include <cstddef>
 #include <string>
 
@@ -28,6 +29,10 @@ struct MeshTopology {
 };
 
 MeshTopology mesh_topology(const Mesh& mesh);
+
+/// Distance from p to triangle abc.
+double point_triangle_distance(const std::array<double, 3>& p, const std::array<double, 3>& a,
+                               const std::array<double, 3>& b, const std::array<double, 3>& c);
 
 /// The largest distance from a point of either mesh (vertices and triangle centres) to the
 /// other mesh's triangles.

@@ -774,6 +774,27 @@ TEST_CASE("sharp edges and corners on grid nodes, grid edges and cell faces stay
     }
 }
 
+TEST_CASE("--stats counts the points where sharp edges cross cell faces that the mesh does not reach") {
+    // Each is a place where the edge is cut by up to a cell. Steinmetz on [-1, 1]³ is exact at
+    // 13 nodes; on [-1.2, 1.2]³ the edge y = z > 0 touches the grid edge y = z = 1 at (0, 1, 1)
+    // and three crossings beside that node stay off (docs/meshing.md); Tor1's twisted edges at
+    // 24 nodes leave 188 of their 544 off (its test bound is √3/2, not half a cell).
+    test::ScratchDir dir;
+    const std::string steinmetz = dir.write("steinmetz.fortu", kSteinmetz);
+    auto off_mesh = [&](const std::string& script, const std::string& args) {
+        const auto run = run_fortu(fmt::format("run {} {} -o {} --stats", quote(script), args, quote(dir / "m.ply")), ".", true);
+        REQUIRE_MESSAGE(run.status == 0, run.out);
+        const std::size_t at = run.out.find(" edge crossings off the mesh");
+        REQUIRE_MESSAGE(at != std::string::npos, run.out);
+        const std::size_t from = run.out.rfind(' ', at - 1) + 1;
+        return run.out.substr(from, at - from);
+    };
+    CHECK(off_mesh(steinmetz, "--size 13") == "0");
+    CHECK(off_mesh(steinmetz, "--size 13 --domain -1.2:1.2,-1.2:1.2,-1.2:1.2") == "3");
+    const std::string tor1 = std::string(FORTU_SHARED_DIR) + "/data/ranok-scripts/Tor1.fortu";
+    if (std::filesystem::exists(tor1)) CHECK(off_mesh(tor1, "--size 24") == "188");
+}
+
 TEST_CASE("triangles the sharp-feature pass joins across cells stay within half a cell of the surface") {
     // bear.vm at 128 nodes: a wedge's polygon joined over several cells near (−0.40, 0.17,
     // 0.17) gave triangles five cells long whose middle was 1.4 cells from the surface; such

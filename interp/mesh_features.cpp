@@ -777,8 +777,8 @@ public:
 
     /// The crossings the finished mesh does not reach (within a billionth of a cell): neither
     /// a vertex nor on a redone triangle or chain edge through its point. Where a gap's block
-    /// or a cell failed, the marching-tetrahedra surface cuts the edge there (it meets an edge
-    /// curve off its own vertices only by chance, so its triangles are not searched).
+    /// or a cell failed, the marching-tetrahedra surface cuts the edge there (its triangles
+    /// meet an edge curve off their vertices only by chance, so they are not searched).
     /// After finish().
     std::size_t crossings_off_mesh() const {
         const double h = lattice_h();

@@ -20,7 +20,6 @@ using Vec = std::array<double, 3>;
 Vec sub(const Vec& a, const Vec& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
 double dot(const Vec& a, const Vec& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
-
 /// Triangles of a mesh in cubic buckets, for nearest-triangle queries.
 class TriangleBuckets {
 public:

@@ -14,9 +14,23 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <iostream>
+#include <string>
 
 namespace fortu {
+
+namespace {
+
+/// How far the farthest crossing left off the mesh is, for --stats: none is sought beyond two
+/// cells.
+std::string farthest_off(const FeatureStats& features) {
+    if (features.crossings_off_mesh == 0) return "";
+    if (!std::isfinite(features.farthest_crossing_off)) return " (the farthest more than 2 cells)";
+    return fmt::format(" (the farthest {:.3g} cells)", features.farthest_crossing_off);
+}
+
+}  // namespace
 
 bool is_mesh_output(const std::string& path) {
     const OutputFormat* format = path.empty() ? nullptr : output_format_for(path);
@@ -63,7 +77,7 @@ int run_mesh_output(const Model& model, const Grid& grid, const CliOptions& o, d
         "octree: {} boxes tested, {} leaves of 8^3 cells, {} nodes evaluated ({:.2f}% of {}), "
         "{} edge solves for {} vertices\n"
         "sharp features: {} cells tested, {} vertices on edges, {} at corners, {} mesh edges along them, "
-        "{} edge crossings off the mesh\n"
+        "{} edge crossings off the mesh{}\n"
         "time: compile {:.3f} s, mesh {:.3f} s, write {:.3f} s\n"
         "peak memory: {} meshing, {} in all\n",
         shown_script_name(o.positional[0]), mesh.triangles.size(), mesh.vertices.size(), grid.cols(), grid.rows(),
@@ -72,7 +86,7 @@ int run_mesh_output(const Model& model, const Grid& grid, const CliOptions& o, d
         stats.node_evaluations, 100.0 * double(stats.node_evaluations) / double(grid.points()),
         format_operations(double(grid.points())), stats.edge_evaluations, stats.crossing_edges, stats.features.cells_tested,
         stats.features.edge_vertices, stats.features.corner_vertices, stats.features.chain_edges,
-        stats.features.crossings_off_mesh, compile_seconds,
+        stats.features.crossings_off_mesh, farthest_off(stats.features), compile_seconds,
         mesh_seconds, write_seconds, format_bytes(mesh_peak), format_bytes(peak_rss_bytes()));
     return 0;
 }

@@ -747,16 +747,18 @@ public:
         stats.chain_edges = chain_edges_;
     }
 
-    /// The mesh with the re-triangulated patches and unused vertices dropped.
-    void finish() {
+    /// The mesh with the re-triangulated patches and unused vertices dropped; `patch_of` as
+    /// for build(), to measure the crossings left off (measure_crossings_left).
+    void finish(const std::function<std::optional<std::vector<uint32_t>>(uint64_t)>& patch_of, FeatureStats& stats) {
         std::vector<char> removed(mesh_.triangles.size(), 0);
         std::vector<Tri> triangles;
         for (const auto& [id, result] : results_)
             for (uint32_t t : result.first) removed[t] = 1;
         for (std::size_t t = 0; t < mesh_.triangles.size(); ++t)
             if (!removed[t]) triangles.push_back(mesh_.triangles[t]);
-        first_redone_ = triangles.size();
+        const std::size_t first_redone = triangles.size();
         for (const auto& [id, result] : results_) triangles.insert(triangles.end(), result.second.begin(), result.second.end());
+        measure_crossings_left(triangles, first_redone, removed, patch_of, stats);
         std::vector<uint32_t> renumber(positions_.size(), UINT32_MAX);
         for (const Tri& t : triangles)
             for (uint32_t v : t) renumber[v] = 0;
@@ -771,32 +773,34 @@ public:
             for (uint32_t& v : t) v = renumber[v];
         out.triangles = std::move(triangles);
         mesh_ = std::move(out);
-        in_mesh_.resize(positions_.size());
-        for (std::size_t v = 0; v < positions_.size(); ++v) in_mesh_[v] = renumber[v] != UINT32_MAX;
     }
 
-    /// The crossings the finished mesh does not reach (within a billionth of a cell): neither
-    /// a vertex nor on a redone triangle or chain edge through its point. Where a gap's block
-    /// or a cell failed, the marching-tetrahedra surface cuts the edge there (its triangles
-    /// meet an edge curve off their vertices only by chance, so they are not searched).
-    /// After finish().
-    std::size_t crossings_off_mesh() const {
+private:
+    /// The crossings the mesh (`triangles`: the marching-tetrahedra ones kept, those of the
+    /// redone patches from `first_redone` on) does not reach within a billionth of a cell,
+    /// neither as a vertex nor on a triangle through its point (a chain edge through a
+    /// straight edge's crossings passes through those between its ends), and the farthest of
+    /// them from it: where a gap's block or a cell failed, the marching-tetrahedra surface
+    /// cuts the edge there. Distances are sought within two cells (farther is infinity): a kept
+    /// triangle lies in its cell (`removed`: the original triangles redone; `patch_of`: a
+    /// cell's original ones).
+    void measure_crossings_left(const std::vector<Tri>& triangles, std::size_t first_redone, const std::vector<char>& removed,
+                                const std::function<std::optional<std::vector<uint32_t>>(uint64_t)>& patch_of,
+                                FeatureStats& stats) const {
         const double h = lattice_h();
+        std::vector<char> used(positions_.size(), 0);
+        for (const Tri& t : triangles)
+            for (uint32_t v : t) used[v] = 1;
         auto cell_of = [&](double c, int a) {
             return std::clamp(long(std::floor((c - min_[a]) / step_[a])), 0L, long(cells_[a]) - 1);
         };
-        auto id_of = [&](long x, long y, long z) { return uint64_t(x) + stride(1) * uint64_t(y) + stride(2) * uint64_t(z); };
-        std::vector<int> left;  // the crossings that are no vertex of the mesh, and the cells around them
-        std::unordered_map<uint64_t, std::vector<uint32_t>> near;  // such a cell → the triangles whose bounding box meets it
-        for (std::size_t x = 0; x < crossings_.size(); ++x)
-            if (!in_mesh_[crossings_[x].vertex]) {
-                left.push_back(int(x));
-                for (uint64_t id : cells_around(positions_[crossings_[x].vertex])) near[id];
-            }
-        if (left.empty()) return 0;
-        for (std::size_t t = first_redone_; t < mesh_.triangles.size(); ++t) {
-            const Tri& tri = mesh_.triangles[t];
-            const Vec &p = mesh_.vertices[tri[0]], &q = mesh_.vertices[tri[1]], &r = mesh_.vertices[tri[2]];
+        std::vector<Vec> left;
+        for (const Crossing& c : crossings_)
+            if (!used[c.vertex]) left.push_back(positions_[c.vertex]);
+        if (left.empty()) return;
+        std::unordered_map<uint64_t, std::vector<uint32_t>> redone;  // a cell → the redone triangles meeting it
+        for (std::size_t t = first_redone; t < triangles.size(); ++t) {
+            const Vec &p = positions_[triangles[t][0]], &q = positions_[triangles[t][1]], &r = positions_[triangles[t][2]];
             long lo[3], hi[3];  // the cells it meets, not those it only touches (most vertices are on cell edges)
             for (int a = 0; a < 3; ++a) {
                 lo[a] = cell_of(std::min({p[a], q[a], r[a]}) + 1e-9 * h, a);
@@ -804,31 +808,42 @@ public:
             }
             for (long z = lo[2]; z <= hi[2]; ++z)
                 for (long y = lo[1]; y <= hi[1]; ++y)
-                    for (long x = lo[0]; x <= hi[0]; ++x)
-                        if (const auto it = near.find(id_of(x, y, z)); it != near.end()) it->second.push_back(uint32_t(t));
+                    for (long x = lo[0]; x <= hi[0]; ++x) redone[uint64_t(x) + stride(1) * uint64_t(y) + stride(2) * uint64_t(z)].push_back(uint32_t(t));
         }
-        std::size_t off = 0;
-        for (int x : left) {
-            const Vec& q = positions_[crossings_[x].vertex];
-            bool reached = false;
-            for (uint64_t id : cells_around(q)) {
-                const auto it = near.find(id);
-                if (it == near.end()) continue;
-                for (uint32_t t : it->second) {
-                    const Tri& tri = mesh_.triangles[t];
-                    if (point_triangle_distance(q, mesh_.vertices[tri[0]], mesh_.vertices[tri[1]], mesh_.vertices[tri[2]]) <= 1e-9 * h) {
-                        reached = true;
-                        break;
-                    }
-                }
-                if (reached) break;
+        std::unordered_map<uint64_t, std::vector<Tri>> near;  // a cell looked in → the triangles meeting it
+        auto in_cell = [&](uint64_t id) -> const std::vector<Tri>& {
+            const auto [it, fresh] = near.try_emplace(id);
+            if (fresh) {
+                if (const auto patch = patch_of(id))
+                    for (uint32_t t : *patch)
+                        if (!removed[t]) it->second.push_back(mesh_.triangles[t]);
+                if (const auto r = redone.find(id); r != redone.end())
+                    for (uint32_t t : r->second) it->second.push_back(triangles[t]);
             }
-            off += !reached;
+            return it->second;
+        };
+        // The nearest triangle within `radius` cells of q's cell: exact up to `radius` cells away.
+        auto nearest = [&](const Vec& q, long radius) {
+            double distance = std::numeric_limits<double>::infinity();
+            long lo[3], hi[3];
+            for (int a = 0; a < 3; ++a)
+                lo[a] = std::max(cell_of(q[a], a) - radius, 0L), hi[a] = std::min(cell_of(q[a], a) + radius, long(cells_[a]) - 1);
+            for (long z = lo[2]; z <= hi[2]; ++z)
+                for (long y = lo[1]; y <= hi[1]; ++y)
+                    for (long x = lo[0]; x <= hi[0]; ++x)
+                        for (const Tri& t : in_cell(uint64_t(x) + stride(1) * uint64_t(y) + stride(2) * uint64_t(z)))
+                            distance = std::min(distance, point_triangle_distance(q, positions_[t[0]], positions_[t[1]], positions_[t[2]]));
+            return distance;
+        };
+        for (const Vec& q : left) {
+            double distance = nearest(q, 1);
+            if (distance > h) distance = nearest(q, 2);
+            if (distance <= 1e-9 * h) continue;
+            ++stats.crossings_off_mesh;
+            stats.farthest_crossing_off = std::max(stats.farthest_crossing_off, distance / h);
         }
-        return off;
     }
 
-private:
     /// Two of the patch's vertex normals more than ~26° apart.
     bool normals_disagree(const std::vector<uint32_t>& patch) const {
         std::vector<uint32_t> vertices;
@@ -3118,8 +3133,6 @@ private:
     std::vector<Wedge> mid_edge_wedges_;  ///< trees without a tip, grouped after the others are built
     std::map<uint64_t, std::size_t> wedge_of_;            ///< a wedge's cells → the wedge
     std::set<uint64_t> banded_;                           ///< the cells of the bands redone
-    std::vector<char> in_mesh_;  ///< per position, whether the finished mesh has it as a vertex
-    std::size_t first_redone_ = 0;  ///< the finished mesh's first triangle of a redone patch
     std::vector<uint64_t> corner_cells_;
     std::map<uint64_t, uint32_t> apex_;
     std::map<uint64_t, std::vector<int>> apex_equations_;
@@ -3152,15 +3165,13 @@ void sharpen_features(const ir::Graph& graph, ir::NodeId root, const Grid& grid,
             return it != starts.end() && it->first == cell;
         });
         for (std::size_t s = 0; s < starts.size(); ++s) builder.seed(starts[s].first, patch_at(s), local);
-        builder.build(
-            [&](uint64_t cell) -> std::optional<std::vector<uint32_t>> {
-                const auto it = std::lower_bound(starts.begin(), starts.end(), std::pair<uint64_t, std::size_t>{cell, 0});
-                if (it == starts.end() || it->first != cell) return std::nullopt;
-                return patch_at(std::size_t(it - starts.begin()));
-            },
-            local);
-        builder.finish();
-        local.crossings_off_mesh = builder.crossings_off_mesh();
+        const auto patch_of = [&](uint64_t cell) -> std::optional<std::vector<uint32_t>> {
+            const auto it = std::lower_bound(starts.begin(), starts.end(), std::pair<uint64_t, std::size_t>{cell, 0});
+            if (it == starts.end() || it->first != cell) return std::nullopt;
+            return patch_at(std::size_t(it - starts.begin()));
+        };
+        builder.build(patch_of, local);
+        builder.finish(patch_of, local);
     }
     if (stats) *stats = local;
 }

@@ -60,9 +60,10 @@ struct FeatureStats {
     std::size_t corner_vertices = 0;  ///< vertices where edges meet
     std::size_t chain_edges = 0;      ///< mesh edges along the edge curves (cells redone count again)
     /// Points where an edge curve crosses a cell face that the mesh does not reach: there the
-    /// marching-tetrahedra surface cuts the edge by up to a cell (a wedge thinner than a cell
-    /// between grid nodes whose block could not be redone).
+    /// marching-tetrahedra surface cuts the edge (a wedge thinner than a cell between grid
+    /// nodes whose block could not be redone).
     std::size_t crossings_off_mesh = 0;
+    double farthest_crossing_off = 0;  ///< the farthest of those from the mesh, in cells (within two sought)
 };
 
 /// Rewrites `mesh` (made on `grid`'s lattice; `triangle_cells[t]` the cell of triangle t,

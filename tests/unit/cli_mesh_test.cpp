@@ -376,7 +376,7 @@ bool onto_edge(const OperandField& phi, const OperandField& psi, P3& p, int axis
                 step += s * s;
             }
         if (axis >= 0) p[axis] = plane;
-        if (std::sqrt(step) < 1e-14) return true;
+        if (std::sqrt(step) < 1e-14 * (1 + std::sqrt(test::dot3(p, p)))) return true;  // round-off grows with |p| (Tor1's ~4)
     }
     return false;
 }
@@ -388,10 +388,10 @@ bool onto_edge(const OperandField& phi, const OperandField& psi, P3& p, int axis
 /// there), within half a cell of the domain's faces, or when it closes. Returns the crossings
 /// in order (a point where the curve passes a node, on three planes at once, three times).
 std::vector<P3> trace_edge(const OperandField& phi, const OperandField& psi, const PointEvaluator& model, P3 seed, const P3& lo,
-                           const P3& hi, int nodes) {
-    P3 step;
+                           const P3& hi, int nodes, double cell = 0) {
+    P3 step;  // `nodes` along each axis, or cubes of side `cell`
     double h = 0;
-    for (int k = 0; k < 3; ++k) step[k] = (hi[k] - lo[k]) / (nodes - 1), h = std::max(h, step[k]);
+    for (int k = 0; k < 3; ++k) step[k] = cell > 0 ? cell : (hi[k] - lo[k]) / (nodes - 1), h = std::max(h, step[k]);
     REQUIRE(onto_edge(phi, psi, seed));
     std::vector<P3> sides[2];
     bool closed = false;
@@ -775,24 +775,54 @@ TEST_CASE("sharp edges and corners on grid nodes, grid edges and cell faces stay
 }
 
 TEST_CASE("--stats counts the points where sharp edges cross cell faces that the mesh does not reach") {
-    // Each is a place where the edge is cut by up to a cell. Steinmetz on [-1, 1]³ is exact at
-    // 13 nodes; on [-1.2, 1.2]³ the edge y = z > 0 touches the grid edge y = z = 1 at (0, 1, 1)
-    // and three crossings beside that node stay off (docs/meshing.md); Tor1's twisted edges at
-    // 24 nodes leave 188 of their 544 off (its test bound is √3/2, not half a cell).
+    // Each is a place where the edge is cut, by as much as the farthest says. Steinmetz on
+    // [-1, 1]³ is exact at 13 nodes; on [-1.2, 1.2]³ the edge y = z > 0 touches the grid edge
+    // y = z = 1 at (0, 1, 1), where marching tetrahedra's vertex, 1/1000 of a cell off the node,
+    // stays (docs/meshing.md).
     test::ScratchDir dir;
     const std::string steinmetz = dir.write("steinmetz.fortu", kSteinmetz);
-    auto off_mesh = [&](const std::string& script, const std::string& args) {
+    auto off_mesh = [&](const std::string& script, const std::string& args, std::string* out = nullptr) {
         const auto run = run_fortu(fmt::format("run {} {} -o {} --stats", quote(script), args, quote(dir / "m.ply")), ".", true);
         REQUIRE_MESSAGE(run.status == 0, run.out);
         const std::size_t at = run.out.find(" edge crossings off the mesh");
         REQUIRE_MESSAGE(at != std::string::npos, run.out);
         const std::size_t from = run.out.rfind(' ', at - 1) + 1;
-        return run.out.substr(from, at - from);
+        if (out) *out = run.out;
+        return run.out.substr(from, run.out.find('\n', at) - from);
     };
-    CHECK(off_mesh(steinmetz, "--size 13") == "0");
-    CHECK(off_mesh(steinmetz, "--size 13 --domain -1.2:1.2,-1.2:1.2,-1.2:1.2") == "3");
+    CHECK(off_mesh(steinmetz, "--size 13") == "0 edge crossings off the mesh");
+    CHECK(off_mesh(steinmetz, "--size 13 --domain -1.2:1.2,-1.2:1.2,-1.2:1.2") ==
+          "3 edge crossings off the mesh (the farthest 0.000707 cells)");
+    // Tor1's edges, twisted round its tube, at 24 nodes: 188 crossings off, the farthest 0.805
+    // cells (its test bound is √3/2, not half a cell). The same from the crossings of the four
+    // edges the test traces itself, from the corners of the square section at Y = 0.
     const std::string tor1 = std::string(FORTU_SHARED_DIR) + "/data/ranok-scripts/Tor1.fortu";
-    if (std::filesystem::exists(tor1)) CHECK(off_mesh(tor1, "--size 24") == "188");
+    if (!std::filesystem::exists(tor1)) return;
+    std::string stats;
+    CHECK(off_mesh(tor1, "--size 24", &stats) == "188 edge crossings off the mesh (the farthest 0.805 cells)");
+    const MeshLattice lattice = lattice_of(stats);
+    const test::CheckedMesh mesh = test::read_binary_ply(dir / "m.ply");
+    const std::string al = "5*ARCTAN(Y/X)", x1 = "(SQRT(X*X+Y*Y)-3)";
+    const OperandField f91(dir, "f91", fmt::format("1-({}*COS({})+Z*SIN({}))^2", x1, al, al));
+    const OperandField f92(dir, "f92", fmt::format("1-(-{}*SIN({})+Z*COS({}))^2", x1, al, al));
+    const Model model = load(tor1, "");
+    const PointEvaluator field(model.graph, model.root);
+    std::size_t crossings = 0, off = 0;
+    double farthest = 0;
+    for (const P3 seed : {P3{4, 0, 1}, P3{4, 0, -1}, P3{2, 0, 1}, P3{2, 0, -1}}) {
+        std::vector<P3> polyline = trace_edge(f91, f92, field, seed, lattice.lo, lattice.hi, 0, lattice.h);
+        polyline.pop_back();  // closed: the first again
+        for (const P3& p : polyline) {
+            double best = 1e300;
+            for (const auto& t : mesh.triangles)
+                best = std::min(best, test::distance_to_triangle(p, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]));
+            ++crossings;
+            if (best > 1e-7 * lattice.h) ++off, farthest = std::max(farthest, best / lattice.h);
+        }
+    }
+    CHECK(crossings == 542);  // fortu's 544 but two seeds on the plane Y = 0, where those traces start
+    CHECK(off == 188);
+    CHECK(farthest == doctest::Approx(0.805).epsilon(0.001));
 }
 
 TEST_CASE("triangles the sharp-feature pass joins across cells stay within half a cell of the surface") {

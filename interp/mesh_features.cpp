@@ -337,6 +337,29 @@ bool segment_through_triangle(const Vec& p, const Vec& q, const Vec& a, const Ve
     return (u >= 0 && v >= 0 && w >= 0) || (u <= 0 && v <= 0 && w <= 0);
 }
 
+/// Whether triangle abc meets the inside of the box [lo, hi] (the separating axis test: the
+/// box's three axes, the triangle's normal and the nine cross products of their edges).
+bool triangle_enters_box(const Vec& a, const Vec& b, const Vec& c, const Vec& lo, const Vec& hi) {
+    const Vec centre{(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2};
+    const Vec half{(hi[0] - lo[0]) / 2, (hi[1] - lo[1]) / 2, (hi[2] - lo[2]) / 2};
+    const std::array<Vec, 3> v{sub(a, centre), sub(b, centre), sub(c, centre)};
+    const std::array<Vec, 3> edges{sub(v[1], v[0]), sub(v[2], v[1]), sub(v[0], v[2])};
+    auto separates = [&](const Vec& axis) {
+        const double p0 = dot(v[0], axis), p1 = dot(v[1], axis), p2 = dot(v[2], axis);
+        const double r = half[0] * std::fabs(axis[0]) + half[1] * std::fabs(axis[1]) + half[2] * std::fabs(axis[2]);
+        return std::min({p0, p1, p2}) >= r || std::max({p0, p1, p2}) <= -r;  // touching is not entering
+    };
+    for (int k = 0; k < 3; ++k) {
+        Vec axis{0, 0, 0};
+        axis[k] = 1;
+        if (separates(axis)) return false;
+        for (const Vec& e : edges)
+            if (const Vec x = cross(axis, e); dot(x, x) > 0 && separates(x)) return false;
+    }
+    const Vec n = cross(edges[0], edges[1]);
+    return !(dot(n, n) > 0 && separates(n));
+}
+
 /// A point where an R-operation's edge curve crosses a face between two cells: a vertex of
 /// the mesh, shared by the two cells' patches. On a grid edge or a grid node (a solid's edge
 /// on the lattice) it lies on several faces; it goes into one segment of the cells' patch
@@ -391,6 +414,7 @@ struct Wedge {
     /// (build_band).
     std::vector<int> cycle;
     std::vector<uint64_t> tube;  ///< sorted: a band's cells within `radius` of its crease's
+    std::vector<uint64_t> left_out;  ///< the cells there holding another edge's crossing or link
 };
 
 /// The sharp-feature pass: traces the edge curves cell to cell, puts a vertex where each
@@ -864,6 +888,10 @@ private:
         const double half_diagonal = norm(sub(cell.hi, cell.lo)) / 2;
         field_.at(centre);
         auto reaches_zero = [&](int i) {
+            // Zero at the centre reaches zero, whatever its gradient: an R-operation's is NaN on
+            // its own edge (√(a² + b²) at a = b = 0), where a corner at the centre of its cell
+            // lies (new_euclid's prism apex meeting its sphere at (0, 4, 2) on 96 nodes).
+            if (field_.value(i) == 0) return true;
             const double g = norm(field_.gradient(i));
             return std::isfinite(g) && std::fabs(field_.value(i)) <= kReachFactor * g * half_diagonal;
         };
@@ -2156,8 +2184,24 @@ private:
     bool group_band(std::size_t w) {
         Wedge& band = wedges_[w];
         band.cells.clear();
+        // The cells holding another edge's crossing or link stay out (the band would lose it;
+        // the pawn's spire-collar crease at 24 nodes has the head-collar one's a cell away):
+        // they are built after the band, so its strips may not enter them (loft_band).
+        const std::set<int> on_crease(band.cycle.begin(), band.cycle.end());
+        auto foreign = [&](uint64_t id) {
+            for (int x : crossings_in(id))
+                if (!on_crease.count(x)) return true;
+            if (const auto it = links_.find(id); it != links_.end())
+                for (const auto& [a, b] : it->second)
+                    if (!on_crease.count(a) || !on_crease.count(b)) return true;
+            return false;
+        };
         while (++band.radius <= kMaxBandRadius) {
-            const std::set<uint64_t> tube = tube_around(band.cycle, band.radius);
+            std::set<uint64_t> tube = tube_around(band.cycle, band.radius);
+            band.left_out.clear();
+            for (uint64_t id : tube)
+                if (foreign(id)) band.left_out.push_back(id);
+            for (uint64_t id : band.left_out) tube.erase(id);
             std::vector<uint64_t> reached = reach_cells(band.seeds, [&](uint64_t id) { return tube.count(id) > 0; });
             if (reached.empty()) continue;
             band.tube.assign(tube.begin(), tube.end());
@@ -2723,6 +2767,11 @@ private:
                 if (const auto near = patch_of(id))
                     for (uint32_t t : *near) around.push_back(mesh_.triangles[t]);
         if (triangles_cross(triangles, around, h)) return false;
+        for (uint64_t id : band.left_out) {  // redone after the band, within their own boxes
+            const Cell cell = cell_box(id);
+            for (const Tri& t : triangles)
+                if (triangle_enters_box(positions_[t[0]], positions_[t[1]], positions_[t[2]], cell.lo, cell.hi)) return false;
+        }
         std::set<std::pair<uint32_t, uint32_t>> directed;  // each edge at most once each way
         for (const Tri& t : triangles)
             for (int e = 0; e < 3; ++e)

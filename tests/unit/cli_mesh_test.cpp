@@ -201,11 +201,12 @@ TEST_CASE("a concave crease shallower than a cell is on the mesh: the pawn's nec
     const double spire_r = lo, spire_y = (spire_r - 4) * (spire_r - 4) * 7 / 16;
     test::ScratchDir dir;
     // At 41 nodes the two creases are two cells apart, and the spire's band cannot have the
-    // cells the head's took: 0.35 cells there, as before the bands.
+    // cells the head's took: 0.35 cells there, as before the bands. At 24 the cells holding the
+    // head's crossings stay out of the spire's band (0.53 cells before, 0.015 since).
     const struct {
         int size;
         double spire_cells;
-    } sizes[] = {{41, 0.5}, {96, 0.05}, {128, 0.05}};
+    } sizes[] = {{24, 0.1}, {41, 0.5}, {96, 0.05}, {128, 0.05}};
     for (const auto& [size, spire_cells] : sizes) {
         const std::string out = dir / fmt::format("pawn{}.ply", size);
         const auto run = run_fortu(fmt::format("run {} --size {} -o {}", quote(path), size, quote(out)));
@@ -698,6 +699,23 @@ TEST_CASE("every 3D RANOK script, bear.vm and the FLOZ3 sphere mesh with no --do
     MESSAGE(meshed, " meshed: ", header, " on their header's domain, ", automatic, " with --domain auto, ", unbounded,
             " unbounded on [-1, 1]^3; worst distance ", worst, " cells");
     CHECK(meshed == 56);
+}
+
+TEST_CASE("corners at the centres of their cells are found") {
+    // A box of linear operands with its corners (±0.5, ±0.5, ±0.5) at the centres of cells of
+    // 1/3, 1/7 and 1/9 on [-1, 1]³: there the R-operation of the two operands already met has
+    // a NaN gradient (√(a² + b²) at a = b = 0), and the corner's cell took it for not reaching
+    // zero; 4 or 6 of the 8 corners were cut. Each size in each R-system.
+    test::ScratchDir dir;
+    const std::string box =
+        dir.write("box_centred.fortu", "ARGUMENT X, Y, Z;\nRETURN (0.5 - X) & (X + 0.5) & (0.5 - Y) & (Y + 0.5) & (0.5 - Z) & (Z + 0.5);\n");
+    for (const std::string rsystem : {"r0", "alpha=0.5", "minmax"}) {
+        SUBCASE(rsystem.c_str()) {
+            for (int nodes : {7, 15, 19})
+                check_straight_edges(dir, {"box_centred", box, {-1, -1, -1}, {1, 1, 1}, nodes, rsystem},
+                                     box_corners({0.5, 0.5, 0.5}), box_edges());
+        }
+    }
 }
 
 TEST_CASE("sharp edges and corners on grid nodes, grid edges and cell faces stay exact") {

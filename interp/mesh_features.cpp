@@ -2184,17 +2184,23 @@ private:
     bool group_band(std::size_t w) {
         Wedge& band = wedges_[w];
         band.cells.clear();
-        // The cells holding another edge's crossing or link stay out (the band would lose it;
-        // the pawn's spire-collar crease at 24 nodes has the head-collar one's a cell away):
-        // they are built after the band, so its strips may not enter them (loft_band).
+        // The cells holding another edge's crossing or link and none of this crease's stay out
+        // (the band would lose it; the pawn's spire-collar crease at 24 nodes has the
+        // head-collar one's a cell away): they are built after the band, so its strips may
+        // not enter them (loft_band). One holding both stays in, and the band is refused.
         const std::set<int> on_crease(band.cycle.begin(), band.cycle.end());
         auto foreign = [&](uint64_t id) {
-            for (int x : crossings_in(id))
-                if (!on_crease.count(x)) return true;
+            bool other = false;
+            for (int x : crossings_in(id)) {
+                if (on_crease.count(x)) return false;
+                other = true;
+            }
             if (const auto it = links_.find(id); it != links_.end())
-                for (const auto& [a, b] : it->second)
-                    if (!on_crease.count(a) || !on_crease.count(b)) return true;
-            return false;
+                for (const auto& [a, b] : it->second) {
+                    if (on_crease.count(a) || on_crease.count(b)) return false;
+                    other = true;
+                }
+            return other;
         };
         while (++band.radius <= kMaxBandRadius) {
             std::set<uint64_t> tube = tube_around(band.cycle, band.radius);

@@ -556,6 +556,19 @@ public:
         return true;
     }
 
+    /// Whether cell `id` holds a crossing or link of `crease` (first) and one of another edge
+    /// (second); a link with one end on each counts for both.
+    std::pair<bool, bool> crease_holdings(uint64_t id, const std::set<int>& crease) const {
+        bool own = false, other = false;
+        for (int x : crossings_in(id)) (crease.count(x) ? own : other) = true;
+        if (const auto it = links_.find(id); it != links_.end())
+            for (const auto& [a, b] : it->second) {
+                own |= crease.count(a) || crease.count(b);
+                other |= !crease.count(a) || !crease.count(b);
+            }
+        return {own, other};
+    }
+
     /// Whether every cell with triangles whose closed box holds p is one of `joined` (sorted).
     bool patches_around_joined(const Vec& p, const std::vector<uint64_t>& joined) const {
         for (uint64_t id : cells_around(p))
@@ -771,9 +784,9 @@ public:
         stats.chain_edges = chain_edges_;
     }
 
-    /// The mesh with the re-triangulated patches and unused vertices dropped; `patch_of` as
-    /// for build(), to measure the crossings left off (measure_crossings_left).
-    void finish(const std::function<std::optional<std::vector<uint32_t>>(uint64_t)>& patch_of, FeatureStats& stats) {
+    /// The mesh with the re-triangulated patches and unused vertices dropped; with `stats`,
+    /// the crossings left off measured (measure_crossings_left; `patch_of` as for build()).
+    void finish(const std::function<std::optional<std::vector<uint32_t>>(uint64_t)>& patch_of, FeatureStats* stats) {
         std::vector<char> removed(mesh_.triangles.size(), 0);
         std::vector<Tri> triangles;
         for (const auto& [id, result] : results_)
@@ -782,7 +795,7 @@ public:
             if (!removed[t]) triangles.push_back(mesh_.triangles[t]);
         const std::size_t first_redone = triangles.size();
         for (const auto& [id, result] : results_) triangles.insert(triangles.end(), result.second.begin(), result.second.end());
-        measure_crossings_left(triangles, first_redone, removed, patch_of, stats);
+        if (stats) measure_crossings_left(triangles, first_redone, removed, patch_of, *stats);
         std::vector<uint32_t> renumber(positions_.size(), UINT32_MAX);
         for (const Tri& t : triangles)
             for (uint32_t v : t) renumber[v] = 0;
@@ -2189,24 +2202,11 @@ private:
         // head-collar one's a cell away): they are built after the band, so its strips may
         // not enter them (loft_band). One holding both stays in, and the band is refused.
         const std::set<int> on_crease(band.cycle.begin(), band.cycle.end());
-        auto foreign = [&](uint64_t id) {
-            bool other = false;
-            for (int x : crossings_in(id)) {
-                if (on_crease.count(x)) return false;
-                other = true;
-            }
-            if (const auto it = links_.find(id); it != links_.end())
-                for (const auto& [a, b] : it->second) {
-                    if (on_crease.count(a) || on_crease.count(b)) return false;
-                    other = true;
-                }
-            return other;
-        };
         while (++band.radius <= kMaxBandRadius) {
             std::set<uint64_t> tube = tube_around(band.cycle, band.radius);
             band.left_out.clear();
             for (uint64_t id : tube)
-                if (foreign(id)) band.left_out.push_back(id);
+                if (const auto [own, other] = crease_holdings(id, on_crease); other && !own) band.left_out.push_back(id);
             for (uint64_t id : band.left_out) tube.erase(id);
             std::vector<uint64_t> reached = reach_cells(band.seeds, [&](uint64_t id) { return tube.count(id) > 0; });
             if (reached.empty()) continue;
@@ -2636,13 +2636,8 @@ private:
                     const std::function<std::optional<std::vector<uint32_t>>(uint64_t)>& patch_of, std::vector<Tri>& out) {
         const double h = band.block.h;
         const std::set<int> on_crease(band.cycle.begin(), band.cycle.end());
-        for (uint64_t id : band.cells) {
-            for (int x : crossings_in(id))
-                if (!on_crease.count(x)) return false;
-            if (const auto it = links_.find(id); it != links_.end())
-                for (const auto& [a, b] : it->second)
-                    if (!on_crease.count(a) || !on_crease.count(b)) return false;
-        }
+        for (uint64_t id : band.cells)
+            if (crease_holdings(id, on_crease).second) return false;
         auto in_group = [&](uint64_t id) { return std::binary_search(band.cells.begin(), band.cells.end(), id); };
         for (uint64_t id : band.tube)
             if ((!has_patch_ || has_patch_(id)) && !in_group(id)) return false;  // its triangles could be crossed
@@ -3226,7 +3221,7 @@ void sharpen_features(const ir::Graph& graph, ir::NodeId root, const Grid& grid,
             return patch_at(std::size_t(it - starts.begin()));
         };
         builder.build(patch_of, local);
-        builder.finish(patch_of, local);
+        builder.finish(patch_of, stats ? &local : nullptr);
     }
     if (stats) *stats = local;
 }

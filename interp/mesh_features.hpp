@@ -68,7 +68,9 @@ struct FeatureStats {
 
 /// Rewrites `mesh` (made on `grid`'s lattice; `triangle_cells[t]` the cell of triangle t,
 /// x + cells_x·(y + cells_y·z)) with vertices on the sharp features of `root`'s R-operations.
-/// Unused vertices are dropped; the order of the result depends on the input only.
+/// Unused vertices are dropped; the order of the result depends on the input only. The
+/// crossings left off the mesh are measured only for `stats` (the golden runner, Python and
+/// `fortu bench` do without).
 void sharpen_features(const ir::Graph& graph, ir::NodeId root, const Grid& grid, Mesh& mesh,
                       const std::vector<uint64_t>& triangle_cells, FeatureStats* stats = nullptr);
 

@@ -556,7 +556,7 @@ Mesh extract_mesh(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
     std::vector<uint64_t> triangle_cells;
     Mesh mesh = weld(leaves, l, triangle_cells, options);
     leaves.clear();
-    sharpen_features(graph, root, grid, mesh, triangle_cells, &total.features);
+    sharpen_features(graph, root, grid, mesh, triangle_cells, stats ? &total.features : nullptr);
     if (stats) *stats = total;
     return mesh;
 }

@@ -667,7 +667,7 @@ public:
 
     /// Phase 2: corners, then each cell's patch re-triangulated through its feature vertices;
     /// a cell that fails gives up its crossings and its neighbours are redone without them.
-    void build(const std::function<std::optional<std::vector<uint32_t>>(uint64_t)>& patch_of, FeatureStats& stats) {
+    void build(const std::function<std::optional<std::vector<uint32_t>>(uint64_t)>& patch_of) {
         for (uint64_t id : corner_cells_) find_corner(id);
         for (uint64_t id : end_cells_) find_corner(id);
         cut_chains_at_corners();
@@ -770,18 +770,6 @@ public:
                 }
             }
         }
-        std::set<uint32_t> used;
-        for (const auto& [id, result] : results_)
-            for (const Tri& t : result.second)
-                for (uint32_t v : t) used.insert(v);
-        for (const Crossing& c : crossings_) stats.edge_vertices += used.count(c.vertex);
-        std::set<uint32_t> corners;
-        for (const auto& [id, apex] : apex_)
-            if (used.count(apex)) corners.insert(apex);
-        for (uint32_t tip : tips_)
-            if (used.count(tip)) corners.insert(tip);
-        stats.corner_vertices = corners.size();
-        stats.chain_edges = chain_edges_;
     }
 
     /// The mesh with the re-triangulated patches and unused vertices dropped; with `stats`,
@@ -789,13 +777,36 @@ public:
     void finish(const std::function<std::optional<std::vector<uint32_t>>(uint64_t)>& patch_of, FeatureStats* stats) {
         std::vector<char> removed(mesh_.triangles.size(), 0);
         std::vector<Tri> triangles;
+        std::vector<uint32_t> kept;  // the marching-tetrahedra triangles kept, as they were numbered
         for (const auto& [id, result] : results_)
             for (uint32_t t : result.first) removed[t] = 1;
-        for (std::size_t t = 0; t < mesh_.triangles.size(); ++t)
-            if (!removed[t]) triangles.push_back(mesh_.triangles[t]);
-        const std::size_t first_redone = triangles.size();
+        for (uint32_t t = 0; t < mesh_.triangles.size(); ++t)
+            if (!removed[t]) triangles.push_back(mesh_.triangles[t]), kept.push_back(t);
         for (const auto& [id, result] : results_) triangles.insert(triangles.end(), result.second.begin(), result.second.end());
-        if (stats) measure_crossings_left(triangles, first_redone, removed, patch_of, *stats);
+        const std::vector<char> gone = lift_chamfers(triangles);
+        std::vector<Tri> remaining;
+        remaining.reserve(triangles.size());
+        for (std::size_t t = 0; t < kept.size(); ++t)
+            if (gone[t]) removed[kept[t]] = 1;
+            else remaining.push_back(triangles[t]);
+        const std::size_t first_redone = remaining.size();
+        for (std::size_t t = kept.size(); t < triangles.size(); ++t)
+            if (!gone[t]) remaining.push_back(triangles[t]);
+        triangles = std::move(remaining);
+        if (stats) {
+            std::vector<char> used(positions_.size(), 0);
+            for (const Tri& t : triangles)
+                for (uint32_t v : t) used[v] = 1;
+            for (const Crossing& c : crossings_) stats->edge_vertices += used[c.vertex];
+            std::set<uint32_t> corners;
+            for (const auto& [id, apex] : apex_)
+                if (used[apex]) corners.insert(apex);
+            for (uint32_t tip : tips_)
+                if (used[tip]) corners.insert(tip);
+            stats->corner_vertices = corners.size();
+            stats->chain_edges = chain_edges_;
+            measure_crossings_left(triangles, first_redone, removed, patch_of, *stats);
+        }
         std::vector<uint32_t> renumber(positions_.size(), UINT32_MAX);
         for (const Tri& t : triangles)
             for (uint32_t v : t) renumber[v] = 0;
@@ -813,6 +824,354 @@ public:
     }
 
 private:
+    // ---- Chamfers lifted onto their edges: the last pass, on the finished mesh ----------------
+
+    /// Which of operation k's faces vertex v lies on (first order, within kChamferTolerance
+    /// cells): 1 operand a's only, 2 b's only, 3 both (the edge), 0 neither.
+    int face_side(uint32_t v, int k, double h) const {
+        field_.at(positions_[v]);
+        const auto& op = field_.operations()[k];
+        auto on = [&](int i) {
+            const double slope = norm(field_.gradient(i));
+            return std::isfinite(slope) && std::fabs(field_.value(i)) <= kChamferTolerance * h * slope;
+        };
+        return (on(op.a) ? 1 : 0) | (on(op.b) ? 2 : 0);
+    }
+
+    /// Runs of traced crossings off the mesh (`used`: the vertices it has) between two on it,
+    /// each as its vertices from one of those to the other along the edge's links.
+    std::vector<std::pair<int, std::vector<uint32_t>>> runs_off_mesh(const std::vector<char>& used) const {
+        std::vector<std::pair<int, std::vector<uint32_t>>> runs;
+        std::set<std::pair<uint32_t, uint32_t>> started;  // a run's first two vertices, from either end
+        for (int x = 0; x < int(crossings_.size()); ++x) {
+            const auto it = partners_.find(x);
+            if (!used[crossings_[x].vertex] || it == partners_.end()) continue;
+            for (int y : it->second) {
+                if (used[crossings_[y].vertex] || crossings_[y].operation != crossings_[x].operation) continue;
+                std::vector<uint32_t> run{crossings_[x].vertex, crossings_[y].vertex};
+                bool ended = false;
+                for (int previous = x, at = y; run.size() <= kMaxChamferRun;) {
+                    const auto next = partners_.find(at);
+                    if (next == partners_.end() || next->second.size() != 2) break;  // a branch or an end
+                    const int ahead = next->second[0] == previous ? next->second[1] : next->second[0];
+                    if (crossings_[ahead].operation != crossings_[x].operation) break;
+                    previous = at, at = ahead;
+                    run.push_back(crossings_[at].vertex);
+                    if (used[crossings_[at].vertex]) {
+                        ended = true;
+                        break;
+                    }
+                }
+                if (!ended || run.front() == run.back() || started.count({run[0], run[1]})) continue;
+                started.insert({run[0], run[1]});
+                started.insert({run.back(), run[run.size() - 2]});
+                runs.push_back({crossings_[x].operation, std::move(run)});
+            }
+        }
+        return runs;
+    }
+
+    /// Where a traced edge's crossings are off the finished mesh (`triangles`) between two
+    /// crossings on it (a wedge thinner than a cell whose cells or block failed: Tor1's twisted
+    /// edges at every size), marching tetrahedra cut across the wedge: a chamfer, triangles
+    /// each with vertices on both operands' faces. Found by the faces its vertices lie on, not
+    /// by distance, it is a disc from one crossing on the mesh to the next, one side on each
+    /// face; it is replaced by two strips of least area from its sides to the crossings
+    /// between (loft_open), if they face the way the surface does, stay near it and cross
+    /// neither each other nor the triangles around. The strips go on the end of `triangles`;
+    /// returns which of them are gone.
+    std::vector<char> lift_chamfers(std::vector<Tri>& triangles) {
+        std::vector<char> gone(triangles.size(), 0);
+        const double h = lattice_h();
+        std::vector<char> used(positions_.size(), 0);
+        for (const Tri& t : triangles)
+            for (uint32_t v : t) used[v] = 1;
+        const auto runs = runs_off_mesh(used);
+        if (runs.empty()) return gone;
+        // Only triangles whose boxes meet the runs' box, widened by the buckets kept round
+        // them, matter (a model's runs are usually a few places on a large mesh).
+        const double bucket = kChamferReach * h;
+        Vec lo = positions_[runs[0].second[0]], hi = lo;
+        for (const auto& [k, run] : runs)
+            for (uint32_t v : run)
+                for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], positions_[v][a]), hi[a] = std::max(hi[a], positions_[v][a]);
+        for (int a = 0; a < 3; ++a) lo[a] -= 3 * bucket, hi[a] += 3 * bucket;
+        std::vector<uint32_t> relevant;
+        for (uint32_t t = 0; t < triangles.size(); ++t) {
+            bool apart = false;
+            for (int a = 0; a < 3 && !apart; ++a) {
+                const double p = positions_[triangles[t][0]][a], q = positions_[triangles[t][1]][a], r = positions_[triangles[t][2]][a];
+                apart = std::max({p, q, r}) < lo[a] || std::min({p, q, r}) > hi[a];
+            }
+            if (!apart) relevant.push_back(t);
+        }
+        // Their vertices' triangles (CSR), and the triangles in buckets three cells wide near
+        // the runs, each in every bucket its bounding box meets (so a strip's box finds every
+        // triangle that could cross it).
+        std::vector<uint32_t> first(positions_.size() + 1, 0), incident(relevant.size() * 3);
+        for (uint32_t t : relevant)
+            for (uint32_t v : triangles[t]) ++first[v + 1];
+        for (std::size_t v = 0; v < positions_.size(); ++v) first[v + 1] += first[v];
+        {
+            std::vector<uint32_t> fill(first.begin(), first.end() - 1);
+            for (uint32_t t : relevant)
+                for (uint32_t v : triangles[t]) incident[fill[v]++] = t;
+        }
+        auto bucket_of = [&](double c) { return long(std::floor(c / bucket)); };
+        auto key = [](long x, long y, long z) { return (uint64_t(x) & 0x1fffff) | (uint64_t(y) & 0x1fffff) << 21 | (uint64_t(z) & 0x1fffff) << 42; };
+        std::unordered_map<uint64_t, std::vector<uint32_t>> near;
+        for (const auto& [k, run] : runs)
+            for (uint32_t v : run) {
+                const Vec& p = positions_[v];
+                for (long dz = -2; dz <= 2; ++dz)
+                    for (long dy = -2; dy <= 2; ++dy)
+                        for (long dx = -2; dx <= 2; ++dx) near.try_emplace(key(bucket_of(p[0]) + dx, bucket_of(p[1]) + dy, bucket_of(p[2]) + dz));
+            }
+        // Calls visit(bucket) for each bucket the box of `points` meets; false if one is not kept.
+        auto buckets_meeting = [&](const std::vector<const Vec*>& points, const auto& visit) {
+            long lo[3], hi[3];
+            for (int a = 0; a < 3; ++a) {
+                double l = (*points[0])[a], u = l;
+                for (const Vec* p : points) l = std::min(l, (*p)[a]), u = std::max(u, (*p)[a]);
+                lo[a] = bucket_of(l), hi[a] = bucket_of(u);
+            }
+            bool all = true;
+            for (long z = lo[2]; z <= hi[2]; ++z)
+                for (long y = lo[1]; y <= hi[1]; ++y)
+                    for (long x = lo[0]; x <= hi[0]; ++x)
+                        if (const auto it = near.find(key(x, y, z)); it != near.end()) visit(it->second);
+                        else all = false;
+            return all;
+        };
+        auto file = [&](uint32_t t) {
+            buckets_meeting({&positions_[triangles[t][0]], &positions_[triangles[t][1]], &positions_[triangles[t][2]]},
+                            [&](std::vector<uint32_t>& in) { in.push_back(t); });
+        };
+        for (uint32_t t : relevant) file(t);
+        // One run's chamfer replaced (lift_chamfer), if its strips cross no triangle around them.
+        auto lift = [&](int k, const std::vector<uint32_t>& run) {
+            std::vector<Tri> strips;
+            std::vector<uint32_t> region;
+            if (!lift_chamfer(run, k, h, triangles, gone, first, incident, region, strips)) return false;
+            // Nor may the strips cross the triangles around them (earlier strips included),
+            // each looked for in the buckets its box meets.
+            std::sort(region.begin(), region.end());
+            for (const Tri& t : strips) {
+                std::vector<Tri> around;
+                if (!buckets_meeting({&positions_[t[0]], &positions_[t[1]], &positions_[t[2]]}, [&](const std::vector<uint32_t>& in) {
+                        for (uint32_t s : in)
+                            if (!gone[s] && !std::binary_search(region.begin(), region.end(), s)) around.push_back(triangles[s]);
+                    }))
+                    return false;
+                if (triangles_cross({t}, around, h)) return false;
+            }
+            // An edge between two vertices of the mesh (a fan from a run's end over a side) must
+            // not be one it has outside the chamfer.
+            std::set<std::pair<uint32_t, uint32_t>> chamfer_edges;
+            for (uint32_t t : region)
+                for (int e = 0; e < 3; ++e) chamfer_edges.insert(std::minmax(triangles[t][e], triangles[t][(e + 1) % 3]));
+            for (const Tri& t : strips)
+                for (int e = 0; e < 3; ++e) {
+                    const uint32_t u = t[e], w = t[(e + 1) % 3];
+                    if (!used[u] || !used[w] || chamfer_edges.count(std::minmax(u, w))) continue;
+                    for (uint32_t i = first[u]; i < first[u + 1]; ++i) {
+                        const Tri& o = triangles[incident[i]];
+                        if (!gone[incident[i]] && !std::binary_search(region.begin(), region.end(), incident[i]) &&
+                            std::find(o.begin(), o.end(), w) != o.end())
+                            return false;
+                    }
+                }
+            for (uint32_t t : region) gone[t] = 1;
+            for (const Tri& t : strips) {
+                triangles.push_back(t);
+                gone.push_back(0);
+                file(uint32_t(triangles.size() - 1));
+            }
+            chain_edges_ += run.size() - 1;
+            return true;
+        };
+        for (const auto& [k, run] : runs) lift(k, run);
+        return gone;
+    }
+
+    /// One run's chamfer (lift_chamfers): the triangles reached across edges from those at the
+    /// run's first end, each with a vertex on each of operation k's faces and any others on
+    /// the edge at the run's ends (its end crossing, or a point of the edge beside it that a
+    /// cell's fan or marching tetrahedra put there), within kChamferReach cells of the run;
+    /// a disc whose boundary goes from one end along one face to the other end and back along
+    /// the other face. `strips`: its replacement, checked for itself (not yet against the
+    /// triangles around).
+    bool lift_chamfer(const std::vector<uint32_t>& run, int k, double h, const std::vector<Tri>& triangles,
+                      const std::vector<char>& gone, const std::vector<uint32_t>& first,
+                      const std::vector<uint32_t>& incident, std::vector<uint32_t>& region, std::vector<Tri>& strips) const {
+        std::unordered_map<uint32_t, int> sides;
+        auto side_of = [&](uint32_t v) {
+            const auto [it, fresh] = sides.try_emplace(v, 0);
+            if (fresh) it->second = face_side(v, k, h);
+            return it->second;
+        };
+        // Each end: its crossing and the points of the edge the mesh joins to it, one after
+        // another, each nearer the run's next crossing (a cell's fan from a point of the edge,
+        // a marching-tetrahedra vertex on it).
+        auto end_points = [&](uint32_t end, uint32_t inward) {
+            std::vector<uint32_t> out{end};
+            for (std::size_t at = 0; at < out.size(); ++at) {
+                const uint32_t from = out[at];
+                const double reach = norm(sub(positions_[inward], positions_[from]));
+                for (uint32_t i = first[from]; i < first[from + 1]; ++i)
+                    for (uint32_t v : triangles[incident[i]])
+                        if (v != from && v != inward && !gone[incident[i]] && side_of(v) == 3 &&
+                            norm(sub(positions_[inward], positions_[v])) < reach && std::find(out.begin(), out.end(), v) == out.end())
+                            out.push_back(v);
+            }
+            return out;
+        };
+        const std::vector<uint32_t> ends[2] = {end_points(run.front(), run[1]), end_points(run.back(), run[run.size() - 2])};
+        auto at_end = [&](uint32_t v) {
+            for (int e = 0; e < 2; ++e)
+                if (std::find(ends[e].begin(), ends[e].end(), v) != ends[e].end()) return e;
+            return -1;
+        };
+        auto near_run = [&](const Tri& t) {
+            Vec c{};
+            for (int a = 0; a < 3; ++a) c[a] = (positions_[t[0]][a] + positions_[t[1]][a] + positions_[t[2]][a]) / 3;
+            for (std::size_t i = 0; i + 1 < run.size(); ++i)
+                if (segment_distance(c, positions_[run[i]], positions_[run[i + 1]]) <= kChamferReach * h) return true;
+            return false;
+        };
+        auto chamfer = [&](uint32_t t) {
+            int faces = 0;
+            for (uint32_t v : triangles[t]) {
+                const int side = side_of(v);
+                if (side == 0 || (side == 3 && at_end(v) < 0)) return false;
+                if (side != 3) faces |= side;
+            }
+            return faces == 3;
+        };
+        std::vector<uint32_t> queue;
+        std::set<uint32_t> in;
+        for (uint32_t end : ends[0])
+            for (uint32_t i = first[end]; i < first[end + 1]; ++i)
+                if (const uint32_t t = incident[i]; !gone[t] && chamfer(t) && in.insert(t).second) queue.push_back(t);
+        for (std::size_t at = 0; at < queue.size(); ++at) {
+            const Tri& t = triangles[queue[at]];
+            if (!near_run(t) || queue.size() > kMaxChamferTriangles * run.size()) return false;  // not one chamfer's
+            for (int e = 0; e < 3; ++e) {
+                const uint32_t u = t[e], w = t[(e + 1) % 3];
+                for (uint32_t i = first[u]; i < first[u + 1]; ++i) {
+                    const uint32_t s = incident[i];
+                    const Tri& o = triangles[s];
+                    if (gone[s] || in.count(s) || std::find(o.begin(), o.end(), w) == o.end() || !chamfer(s)) continue;
+                    in.insert(s);
+                    queue.push_back(s);
+                }
+            }
+        }
+        region = queue;
+        if (region.empty()) return false;
+        // Its boundary: one loop, the region a disc (V − E + F = 1).
+        std::set<std::pair<uint32_t, uint32_t>> directed;
+        std::set<uint32_t> vertices;
+        for (uint32_t t : region)
+            for (int e = 0; e < 3; ++e) {
+                if (!directed.insert({triangles[t][e], triangles[t][(e + 1) % 3]}).second) return false;
+                vertices.insert(triangles[t][e]);
+            }
+        std::map<uint32_t, uint32_t> next;
+        std::size_t undirected = 0;
+        for (const auto& [u, w] : directed) {
+            if (directed.count({w, u})) {
+                undirected += u < w;
+                continue;
+            }
+            ++undirected;
+            if (!next.emplace(u, w).second) return false;  // the boundary touches itself
+        }
+        if (long(vertices.size()) - long(undirected) + long(region.size()) != 1) return false;
+        std::vector<uint32_t> loop{next.begin()->first};
+        for (uint32_t at = next.begin()->second; at != loop.front(); at = next[at]) {
+            if (loop.size() > next.size() || !next.count(at)) return false;
+            loop.push_back(at);
+        }
+        if (loop.size() != next.size()) return false;
+        // One point of the edge at each end, and between them one side on each face.
+        std::size_t corner[2] = {loop.size(), loop.size()};
+        for (std::size_t i = 0; i < loop.size(); ++i) {
+            if (side_of(loop[i]) != 3) continue;
+            const int e = at_end(loop[i]);
+            if (e < 0 || corner[e] != loop.size()) return false;
+            corner[e] = i;
+        }
+        if (corner[0] == loop.size() || corner[1] == loop.size()) return false;
+        std::rotate(loop.begin(), loop.begin() + long(corner[0]), loop.end());
+        const std::size_t other = (corner[1] + loop.size() - corner[0]) % loop.size();
+        std::vector<uint32_t> sides_of_loop[2] = {{loop.begin(), loop.begin() + long(other) + 1}, {loop.begin() + long(other), loop.end()}};
+        sides_of_loop[1].push_back(loop.front());
+        int faces = 0;
+        for (const auto& side : sides_of_loop) {
+            if (side.size() < 3) return false;
+            const int face = side_of(side[1]);
+            for (std::size_t i = 1; i + 1 < side.size(); ++i)
+                if (side_of(side[i]) != face) return false;
+            faces |= face;
+        }
+        if (faces != 3) return false;
+        std::vector<uint32_t> crease{loop.front()};
+        crease.insert(crease.end(), run.begin() + 1, run.end() - 1);
+        crease.push_back(loop[other]);
+        const double reach = kChamferReach * h;
+        for (const auto& side : sides_of_loop) {
+            if (side.front() != crease.front()) std::reverse(crease.begin(), crease.end());
+            if (!loft_open(side, crease, h, reach, strips)) return false;
+        }
+        return !triangles_cross(strips, strips, h);  // the two strips, and each in itself
+    }
+
+    /// The strip between two paths from one point to another (`side`, then `crease`, the strip
+    /// on the left of `side` going forward): each triangle two points of one and one of the
+    /// other, the least total area (dynamic programming, as loft's for closed ones), none
+    /// refused by strip_area, no two neighbours folded onto each other.
+    bool loft_open(const std::vector<uint32_t>& side, const std::vector<uint32_t>& crease, double h, double reach,
+                   std::vector<Tri>& out) const {
+        const std::size_t m = side.size() - 1, n = crease.size() - 1;  // the last indices
+        if (m < 1 || n < 1 || (m + 1) * (n + 1) > kMaxLoftSize) return false;
+        const double inf = std::numeric_limits<double>::infinity();
+        const std::size_t width = n + 1;
+        std::vector<double> cost((m + 1) * width, inf);
+        std::vector<char> along_side((m + 1) * width, 0);  // the last step: 1 along the side, 0 along the crease
+        std::unordered_map<uint64_t, bool> midpoints;
+        // Rung (i, j) joins side[i] and crease[j]; (1, 0) and (0, 1) are the paths' first edges,
+        // (m, n − 1) and (m − 1, n) their last.
+        cost[1 * width + 0] = cost[0 * width + 1] = 0;
+        for (std::size_t i = 0; i <= m; ++i)
+            for (std::size_t j = 0; j <= n; ++j) {
+                if (i + j <= 1) continue;
+                double& c = cost[i * width + j];
+                // A fan from an end over the side would join it to side points the mesh may
+                // have joined it to outside the chamfer.
+                if (i > 0 && (j > 0 || i == 1) && j < n && cost[(i - 1) * width + j] < inf) {
+                    const double next = cost[(i - 1) * width + j] + strip_area(side[i - 1], side[i], crease[j], h, reach, midpoints);
+                    if (next < c) c = next, along_side[i * width + j] = 1;
+                }
+                if (j > 0 && i > 0 && i < m && cost[i * width + j - 1] < inf) {  // side[0], side[m] are on the crease
+                    const double next = cost[i * width + j - 1] + strip_area(side[i], crease[j], crease[j - 1], h, reach, midpoints);
+                    if (next < c) c = next, along_side[i * width + j] = 0;
+                }
+            }
+        std::size_t i = m, j = n - 1;
+        if (cost[(m - 1) * width + n] < cost[m * width + n - 1]) i = m - 1, j = n;
+        if (!(cost[i * width + j] < inf)) return false;
+        std::vector<Tri> triangles;
+        while (i + j > 1) {
+            if (along_side[i * width + j]) triangles.push_back({side[i - 1], side[i], crease[j]}), --i;
+            else triangles.push_back({side[i], crease[j], crease[j - 1]}), --j;
+        }
+        for (std::size_t t = 1; t < triangles.size(); ++t)  // neighbours in the strip share a rung
+            if (!(dot(area_normal(triangles[t - 1]), area_normal(triangles[t])) > 0)) return false;
+        out.insert(out.end(), triangles.begin(), triangles.end());
+        return true;
+    }
+
     /// The crossings the mesh (`triangles`: the marching-tetrahedra ones kept, those of the
     /// redone patches from `first_redone` on) does not reach within a billionth of a cell,
     /// neither as a vertex nor on a triangle through its point (a chain edge through a
@@ -2782,6 +3141,37 @@ private:
         return true;
     }
 
+    /// A strip triangle's area, or infinity where it is degenerate, faces against its
+    /// vertices' normals, has an edge longer than `reach` (most pairs of points are ruled out
+    /// before the field is evaluated), or leaves the surface: its centroid and edge midpoints
+    /// within kMaxBandDistance cells (a strip two cells wide must not cut across a rim beside
+    /// the crease, the pawn's collar at 41 nodes).
+    /// `midpoints` remembers each edge's answer: the dynamic programs ask for every edge of a
+    /// side or crease once per point of the other.
+    double strip_area(uint32_t a, uint32_t b, uint32_t c, double h, double reach,
+                      std::unordered_map<uint64_t, bool>& midpoints) const {
+        const double inf = std::numeric_limits<double>::infinity();
+        const Vec &u = positions_[a], &v = positions_[b], &w = positions_[c];
+        if (norm(sub(u, v)) > reach || norm(sub(v, w)) > reach || norm(sub(w, u)) > reach) return inf;
+        const Vec tn = area_normal({a, b, c});
+        Vec normals{0, 0, 0};
+        for (uint32_t x : {a, b, c})
+            for (int k = 0; k < 3; ++k) normals[k] += normals_[x][k];
+        const double area = norm(tn) / 2;
+        if (!(area >= kMinChainArea * h * h) || !(dot(tn, normals) > 0)) return inf;
+        if (!near_surface(Vec{(u[0] + v[0] + w[0]) / 3, (u[1] + v[1] + w[1]) / 3, (u[2] + v[2] + w[2]) / 3}, kMaxBandDistance * h))
+            return inf;
+        for (const auto& [x, y] : {std::pair{a, b}, std::pair{b, c}, std::pair{c, a}}) {
+            const auto [it, fresh] = midpoints.try_emplace(uint64_t(std::min(x, y)) << 32 | std::max(x, y), false);
+            if (fresh) {
+                const Vec &p = positions_[x], &q = positions_[y];
+                it->second = near_surface(Vec{(p[0] + q[0]) / 2, (p[1] + q[1]) / 2, (p[2] + q[2]) / 2}, kMaxBandDistance * h);
+            }
+            if (!it->second) return inf;
+        }
+        return area;
+    }
+
     /// The strip between a patch's boundary ring and a closed crease going round the same way
     /// (the patch on the ring's left): each triangle two points of one and one of the other,
     /// the least total area over all such strips (dynamic programming, as contours are
@@ -2800,27 +3190,8 @@ private:
         auto p = [&](std::size_t i) { return ring[i % m]; };
         auto q = [&](std::size_t j) { return crease[(j + shift) % n]; };
         const double inf = std::numeric_limits<double>::infinity();
-        // A triangle's area, or infinity where it is degenerate, faces against its vertices'
-        // normals, has an edge longer than `reach` (no strip of the band has: most pairs of
-        // points are ruled out before the field is evaluated), or leaves the surface: its
-        // centroid and edge midpoints within kMaxBandDistance cells (a strip two cells wide
-        // must not cut across a rim beside the crease, the pawn's collar at 41 nodes).
-        auto area_of = [&](uint32_t a, uint32_t b, uint32_t c) {
-            const Vec &u = positions_[a], &v = positions_[b], &w = positions_[c];
-            if (norm(sub(u, v)) > reach || norm(sub(v, w)) > reach || norm(sub(w, u)) > reach) return inf;
-            const Vec tn = area_normal({a, b, c});
-            Vec normals{0, 0, 0};
-            for (uint32_t x : {a, b, c})
-                for (int k = 0; k < 3; ++k) normals[k] += normals_[x][k];
-            const double area = norm(tn) / 2;
-            if (!(area >= kMinChainArea * h * h) || !(dot(tn, normals) > 0)) return inf;
-            for (const Vec& point : {Vec{(u[0] + v[0] + w[0]) / 3, (u[1] + v[1] + w[1]) / 3, (u[2] + v[2] + w[2]) / 3},
-                                     Vec{(u[0] + v[0]) / 2, (u[1] + v[1]) / 2, (u[2] + v[2]) / 2},
-                                     Vec{(v[0] + w[0]) / 2, (v[1] + w[1]) / 2, (v[2] + w[2]) / 2},
-                                     Vec{(w[0] + u[0]) / 2, (w[1] + u[1]) / 2, (w[2] + u[2]) / 2}})
-                if (!near_surface(point, kMaxBandDistance * h)) return inf;
-            return area;
-        };
+        std::unordered_map<uint64_t, bool> midpoints;
+        auto area_of = [&](uint32_t a, uint32_t b, uint32_t c) { return strip_area(a, b, c, h, reach, midpoints); };
         const std::size_t width = n + 1;
         std::vector<double> cost((m + 1) * width, inf);
         std::vector<char> along_ring((m + 1) * width, 0);  // the last step: 1 along the ring, 0 along the crease
@@ -3154,6 +3525,14 @@ private:
     static constexpr int kMaxBandRadius = 2;
     static constexpr std::size_t kMaxLoftSize = std::size_t(1) << 22;  ///< ring × crease points
     static constexpr int kMaxWedgePolygon = 256;
+    /// A chamfer's vertices lie on a face within this many cells (marching tetrahedra keep
+    /// theirs 1/1000 of an edge from the nodes, so off the surface by up to that).
+    static constexpr double kChamferTolerance = 0.01;
+    /// A chamfer's triangles lie within this many cells of its run of crossings (a wedge is
+    /// cut at most a cell and a half from its edge), and so do its strips' edges.
+    static constexpr double kChamferReach = 3;
+    static constexpr std::size_t kMaxChamferRun = 4096;        ///< crossings
+    static constexpr std::size_t kMaxChamferTriangles = 32;  ///< per crossing of the run
 
     mutable FeatureField field_;   ///< evaluation scratch: const checks evaluate too
     Mesh& mesh_;
@@ -3220,7 +3599,7 @@ void sharpen_features(const ir::Graph& graph, ir::NodeId root, const Grid& grid,
             if (it == starts.end() || it->first != cell) return std::nullopt;
             return patch_at(std::size_t(it - starts.begin()));
         };
-        builder.build(patch_of, local);
+        builder.build(patch_of);
         builder.finish(patch_of, stats ? &local : nullptr);
     }
     if (stats) *stats = local;

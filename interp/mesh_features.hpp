@@ -42,6 +42,10 @@
 // between them, would compete for each other's cells) is redone as one band: the annulus of
 // surface round it, within a cell or two, replaced by two strips of least area from its
 // boundary rings to the crease.
+// Last, on the finished mesh: where a run of an edge's crossings is still off the mesh between
+// two on it, marching tetrahedra cut across the edge's wedge (a chamfer: triangles with
+// vertices on both operands' faces); the chamfer, found by the faces its vertices lie on, is
+// replaced by two strips from its sides to the crossings, so the edge is on the mesh there too.
 #pragma once
 
 #include "interp/ir/ir.hpp"

@@ -811,13 +811,15 @@ TEST_CASE("--stats counts the points where sharp edges cross cell faces that the
     CHECK(off_mesh(steinmetz, "--size 13") == "0 edge crossings off the mesh");
     CHECK(off_mesh(steinmetz, "--size 13 --domain -1.2:1.2,-1.2:1.2,-1.2:1.2") ==
           "3 edge crossings off the mesh (the farthest 0.000707 cells)");
-    // Tor1's edges, twisted round its tube, at 24 nodes: 188 crossings off, the farthest 0.805
-    // cells (its test bound is √3/2, not half a cell). The same from the crossings of the four
-    // edges the test traces itself, from the corners of the square section at Y = 0.
+    // Tor1's edges, twisted round its tube, at 24 nodes: 69 crossings off, the farthest 0.805
+    // cells (its test bound is √3/2, not half a cell); 188 before the chamfers marching
+    // tetrahedra cut across its wedges were lifted onto the edges (lift_chamfers). The same
+    // from the crossings of the four edges the test traces itself, from the corners of the
+    // square section at Y = 0.
     const std::string tor1 = std::string(FORTU_SHARED_DIR) + "/data/ranok-scripts/Tor1.fortu";
     if (!std::filesystem::exists(tor1)) return;
     std::string stats;
-    CHECK(off_mesh(tor1, "--size 24", &stats) == "188 edge crossings off the mesh (the farthest 0.805 cells)");
+    CHECK(off_mesh(tor1, "--size 24", &stats) == "69 edge crossings off the mesh (the farthest 0.805 cells)");
     const MeshLattice lattice = lattice_of(stats);
     const test::CheckedMesh mesh = test::read_binary_ply(dir / "m.ply");
     const std::string al = "5*ARCTAN(Y/X)", x1 = "(SQRT(X*X+Y*Y)-3)";
@@ -825,7 +827,7 @@ TEST_CASE("--stats counts the points where sharp edges cross cell faces that the
     const OperandField f92(dir, "f92", fmt::format("1-(-{}*SIN({})+Z*COS({}))^2", x1, al, al));
     const Model model = load(tor1, "");
     const PointEvaluator field(model.graph, model.root);
-    std::size_t crossings = 0, off = 0;
+    std::size_t crossings = 0, off = 0, over_half = 0;
     double farthest = 0;
     for (const P3 seed : {P3{4, 0, 1}, P3{4, 0, -1}, P3{2, 0, 1}, P3{2, 0, -1}}) {
         std::vector<P3> polyline = trace_edge(f91, f92, field, seed, lattice.lo, lattice.hi, 0, lattice.h);
@@ -836,10 +838,12 @@ TEST_CASE("--stats counts the points where sharp edges cross cell faces that the
                 best = std::min(best, test::distance_to_triangle(p, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]));
             ++crossings;
             if (best > 1e-7 * lattice.h) ++off, farthest = std::max(farthest, best / lattice.h);
+            over_half += best > 0.5 * lattice.h;
         }
     }
     CHECK(crossings == 542);  // fortu's 544 but two seeds on the plane Y = 0, where those traces start
-    CHECK(off == 188);
+    CHECK(off == 69);
+    CHECK(over_half == 33);
     CHECK(farthest == doctest::Approx(0.805).epsilon(0.001));
 }
 

@@ -948,11 +948,15 @@ private:
                             [&](std::vector<uint32_t>& in) { in.push_back(t); });
         };
         for (uint32_t t : relevant) file(t);
+        std::vector<uint32_t> corners(tips_.begin(), tips_.end());  // where three operands vanish
+        for (const auto& [id, apex] : apex_)
+            if (apex_equations_.at(id).size() >= 3) corners.push_back(apex);
+        std::sort(corners.begin(), corners.end());
         // One run's chamfer replaced (lift_chamfer), if its strips cross no triangle around them.
-        auto lift = [&](int k, const std::vector<uint32_t>& run) {
+        auto lift = [&](int k, const std::vector<uint32_t>& run, int& leak) {
             std::vector<Tri> strips;
             std::vector<uint32_t> region;
-            if (!lift_chamfer(run, k, h, triangles, gone, first, incident, region, strips)) return false;
+            if (!lift_chamfer(run, k, h, triangles, gone, first, incident, corners, region, strips, leak)) return false;
             // Nor may the strips cross the triangles around them (earlier strips included),
             // each looked for in the buckets its box meets.
             std::sort(region.begin(), region.end());
@@ -990,7 +994,39 @@ private:
             chain_edges_ += run.size() - 1;
             return true;
         };
-        for (const auto& [k, run] : runs) lift(k, run);
+        // A chamfer that goes on past a run's end (beneath its crossing, a tent's top) is
+        // lifted with the run beyond that end too, through the crossing.
+        std::map<std::pair<int, uint32_t>, std::vector<std::size_t>> runs_at;  // (operation, end) → runs
+        for (std::size_t i = 0; i < runs.size(); ++i)
+            for (uint32_t end : {runs[i].second.front(), runs[i].second.back()}) runs_at[{runs[i].first, end}].push_back(i);
+        std::vector<char> lifted(runs.size(), 0);
+        for (std::size_t i = 0; i < runs.size(); ++i) {
+            const int k = runs[i].first;
+            std::vector<uint32_t> run = runs[i].second;
+            std::vector<std::size_t> joined{i};
+            for (int joins = 0; !lifted[i] && joins <= kMaxChamferJoins; ++joins) {
+                int leak = 0;
+                if (lift(k, run, leak)) {
+                    for (std::size_t j : joined) lifted[j] = 1;
+                    break;
+                }
+                if (leak == 0) break;
+                const std::vector<std::size_t>& meeting = runs_at[{k, leak == 1 ? run.front() : run.back()}];
+                if (meeting.size() != 2) break;
+                const std::size_t j = std::count(joined.begin(), joined.end(), meeting[0]) ? meeting[1] : meeting[0];
+                if (lifted[j] || std::count(joined.begin(), joined.end(), j)) break;
+                std::vector<uint32_t> beyond = runs[j].second;
+                if (leak == 1) {
+                    if (beyond.back() != run.front()) std::reverse(beyond.begin(), beyond.end());
+                    run.insert(run.begin(), beyond.begin(), beyond.end() - 1);
+                } else {
+                    if (beyond.front() != run.back()) std::reverse(beyond.begin(), beyond.end());
+                    run.insert(run.end(), beyond.begin() + 1, beyond.end());
+                }
+                if (run.front() == run.back()) break;  // round a closed edge
+                joined.push_back(j);
+            }
+        }
         return gone;
     }
 
@@ -1000,10 +1036,13 @@ private:
     /// cell's fan or marching tetrahedra put there), within kChamferReach cells of the run;
     /// a disc whose boundary goes from one end along one face to the other end and back along
     /// the other face. `strips`: its replacement, checked for itself (not yet against the
-    /// triangles around).
+    /// triangles around). `leak`: 1 or 2 where the chamfer goes on past the run's first or last
+    /// end, for lift_chamfers to join the run beyond; `corners` may not be dropped.
     bool lift_chamfer(const std::vector<uint32_t>& run, int k, double h, const std::vector<Tri>& triangles,
-                      const std::vector<char>& gone, const std::vector<uint32_t>& first,
-                      const std::vector<uint32_t>& incident, std::vector<uint32_t>& region, std::vector<Tri>& strips) const {
+                      const std::vector<char>& gone, const std::vector<uint32_t>& first, const std::vector<uint32_t>& incident,
+                      const std::vector<uint32_t>& corners, std::vector<uint32_t>& region, std::vector<Tri>& strips,
+                      int& leak) const {
+        leak = 0;
         std::unordered_map<uint32_t, int> sides;
         auto side_of = [&](uint32_t v) {
             const auto [it, fresh] = sides.try_emplace(v, 0);
@@ -1039,23 +1078,56 @@ private:
                 if (segment_distance(c, positions_[run[i]], positions_[run[i + 1]]) <= kChamferReach * h) return true;
             return false;
         };
+        // Crossings inside the run that the mesh has (runs joined through them, lift_chamfers):
+        // the chamfer passes beneath such a crossing, which a cell's fan lifted as a tent
+        // (Tor1), so the whole fan round it goes with the chamfer.
+        std::vector<uint32_t> inside;
+        for (std::size_t i = 1; i + 1 < run.size(); ++i)
+            if (first[run[i] + 1] > first[run[i]]) inside.push_back(run[i]);
+        // And the tents' other points on the edge (a cell's fan from one), not corners: the
+        // strips drop them.
+        for (std::size_t at = 0; at < inside.size() && inside.size() <= 4 * run.size(); ++at)
+            for (uint32_t i = first[inside[at]]; i < first[inside[at] + 1]; ++i)
+                for (uint32_t v : triangles[incident[i]])
+                    if (!gone[incident[i]] && side_of(v) == 3 && at_end(v) < 0 && !std::binary_search(corners.begin(), corners.end(), v) &&
+                        std::find(inside.begin(), inside.end(), v) == inside.end())
+                        inside.push_back(v);
+        auto allowed = [&](uint32_t v) {
+            const int side = side_of(v);
+            return side == 1 || side == 2 || (side == 3 && (at_end(v) >= 0 || std::find(inside.begin(), inside.end(), v) != inside.end()));
+        };
         auto chamfer = [&](uint32_t t) {
             int faces = 0;
             for (uint32_t v : triangles[t]) {
-                const int side = side_of(v);
-                if (side == 0 || (side == 3 && at_end(v) < 0)) return false;
-                if (side != 3) faces |= side;
+                if (!allowed(v)) return false;
+                if (side_of(v) != 3) faces |= side_of(v);
             }
             return faces == 3;
         };
         std::vector<uint32_t> queue;
         std::set<uint32_t> in;
+        for (uint32_t v : inside)
+            for (uint32_t i = first[v]; i < first[v + 1]; ++i) {
+                const uint32_t t = incident[i];
+                if (gone[t]) continue;
+                for (uint32_t w : triangles[t])
+                    if (!allowed(w)) return false;
+                if (in.insert(t).second) queue.push_back(t);
+            }
         for (uint32_t end : ends[0])
             for (uint32_t i = first[end]; i < first[end + 1]; ++i)
                 if (const uint32_t t = incident[i]; !gone[t] && chamfer(t) && in.insert(t).second) queue.push_back(t);
         for (std::size_t at = 0; at < queue.size(); ++at) {
             const Tri& t = triangles[queue[at]];
-            if (!near_run(t) || queue.size() > kMaxChamferTriangles * run.size()) return false;  // not one chamfer's
+            if (queue.size() > kMaxChamferTriangles * run.size()) return false;  // not one chamfer's
+            if (!near_run(t)) {  // it goes on past an end, or it is not one chamfer's
+                Vec c{};
+                for (int a = 0; a < 3; ++a) c[a] = (positions_[t[0]][a] + positions_[t[1]][a] + positions_[t[2]][a]) / 3;
+                const Vec along = sub(positions_[run.back()], positions_[run.front()]);
+                const double where = dot(sub(c, positions_[run.front()]), along) / dot(along, along);
+                leak = where < 0 ? 1 : where > 1 ? 2 : 0;
+                return false;
+            }
             for (int e = 0; e < 3; ++e) {
                 const uint32_t u = t[e], w = t[(e + 1) % 3];
                 for (uint32_t i = first[u]; i < first[u + 1]; ++i) {
@@ -1102,7 +1174,10 @@ private:
             if (e < 0 || corner[e] != loop.size()) return false;
             corner[e] = i;
         }
-        if (corner[0] == loop.size() || corner[1] == loop.size()) return false;
+        if (corner[0] == loop.size() || corner[1] == loop.size()) {  // it passes an end
+            leak = corner[0] == loop.size() ? 1 : 2;
+            return false;
+        }
         std::rotate(loop.begin(), loop.begin() + long(corner[0]), loop.end());
         const std::size_t other = (corner[1] + loop.size() - corner[0]) % loop.size();
         std::vector<uint32_t> sides_of_loop[2] = {{loop.begin(), loop.begin() + long(other) + 1}, {loop.begin() + long(other), loop.end()}};
@@ -3533,6 +3608,7 @@ private:
     static constexpr double kChamferReach = 3;
     static constexpr std::size_t kMaxChamferRun = 4096;        ///< crossings
     static constexpr std::size_t kMaxChamferTriangles = 32;  ///< per crossing of the run
+    static constexpr int kMaxChamferJoins = 16;  ///< runs joined through the crossings between them
 
     mutable FeatureField field_;   ///< evaluation scratch: const checks evaluate too
     Mesh& mesh_;

@@ -948,15 +948,17 @@ private:
                             [&](std::vector<uint32_t>& in) { in.push_back(t); });
         };
         for (uint32_t t : relevant) file(t);
-        std::vector<uint32_t> corners(tips_.begin(), tips_.end());  // where three operands vanish
+        // Corners (where three operands vanish) and crossings: a chamfer may drop neither.
+        std::vector<uint32_t> kept(tips_.begin(), tips_.end());
         for (const auto& [id, apex] : apex_)
-            if (apex_equations_.at(id).size() >= 3) corners.push_back(apex);
-        std::sort(corners.begin(), corners.end());
+            if (apex_equations_.at(id).size() >= 3) kept.push_back(apex);
+        for (const Crossing& c : crossings_) kept.push_back(c.vertex);
+        std::sort(kept.begin(), kept.end());
         // One run's chamfer replaced (lift_chamfer), if its strips cross no triangle around them.
         auto lift = [&](int k, const std::vector<uint32_t>& run, int& leak) {
             std::vector<Tri> strips;
             std::vector<uint32_t> region;
-            if (!lift_chamfer(run, k, h, triangles, gone, first, incident, corners, region, strips, leak)) return false;
+            if (!lift_chamfer(run, k, h, triangles, gone, first, incident, kept, region, strips, leak)) return false;
             // Nor may the strips cross the triangles around them (earlier strips included),
             // each looked for in the buckets its box meets.
             std::sort(region.begin(), region.end());
@@ -1037,10 +1039,10 @@ private:
     /// a disc whose boundary goes from one end along one face to the other end and back along
     /// the other face. `strips`: its replacement, checked for itself (not yet against the
     /// triangles around). `leak`: 1 or 2 where the chamfer goes on past the run's first or last
-    /// end, for lift_chamfers to join the run beyond; `corners` may not be dropped.
+    /// end, for lift_chamfers to join the run beyond; `kept` (sorted) may not be dropped.
     bool lift_chamfer(const std::vector<uint32_t>& run, int k, double h, const std::vector<Tri>& triangles,
                       const std::vector<char>& gone, const std::vector<uint32_t>& first, const std::vector<uint32_t>& incident,
-                      const std::vector<uint32_t>& corners, std::vector<uint32_t>& region, std::vector<Tri>& strips,
+                      const std::vector<uint32_t>& kept, std::vector<uint32_t>& region, std::vector<Tri>& strips,
                       int& leak) const {
         leak = 0;
         std::unordered_map<uint32_t, int> sides;
@@ -1084,12 +1086,12 @@ private:
         std::vector<uint32_t> inside;
         for (std::size_t i = 1; i + 1 < run.size(); ++i)
             if (first[run[i] + 1] > first[run[i]]) inside.push_back(run[i]);
-        // And the tents' other points on the edge (a cell's fan from one), not corners: the
-        // strips drop them.
+        // And the tents' other points on the edge (a cell's fan from one, a marching-tetrahedra
+        // vertex on it), not corners or other crossings: the strips drop them.
         for (std::size_t at = 0; at < inside.size() && inside.size() <= 4 * run.size(); ++at)
             for (uint32_t i = first[inside[at]]; i < first[inside[at] + 1]; ++i)
                 for (uint32_t v : triangles[incident[i]])
-                    if (!gone[incident[i]] && side_of(v) == 3 && at_end(v) < 0 && !std::binary_search(corners.begin(), corners.end(), v) &&
+                    if (!gone[incident[i]] && side_of(v) == 3 && at_end(v) < 0 && !std::binary_search(kept.begin(), kept.end(), v) &&
                         std::find(inside.begin(), inside.end(), v) == inside.end())
                         inside.push_back(v);
         auto allowed = [&](uint32_t v) {

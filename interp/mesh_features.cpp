@@ -772,8 +772,10 @@ public:
         }
     }
 
-    /// The mesh with the re-triangulated patches and unused vertices dropped; with `stats`,
-    /// the crossings left off measured (measure_crossings_left; `patch_of` as for build()).
+    /// The mesh with the re-triangulated patches, the chamfers left lifted onto their edges
+    /// (lift_chamfers) and unused vertices dropped; with `stats`, the feature vertices and
+    /// chain edges counted on it and the crossings left off measured (measure_crossings_left;
+    /// `patch_of` as for build()).
     void finish(const std::function<std::optional<std::vector<uint32_t>>(uint64_t)>& patch_of, FeatureStats* stats) {
         std::vector<char> removed(mesh_.triangles.size(), 0);
         std::vector<Tri> triangles;

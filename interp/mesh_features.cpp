@@ -440,6 +440,8 @@ public:
                 id / (uint64_t(cells_[0]) * uint64_t(cells_[1]))};
     }
     uint64_t stride(int a) const { return a == 0 ? 1 : a == 1 ? uint64_t(cells_[0]) : uint64_t(cells_[0]) * uint64_t(cells_[1]); }
+    /// The cell at (x, y, z), as coords() reads it.
+    uint64_t cell_id(uint64_t x, uint64_t y, uint64_t z) const { return x + stride(1) * y + stride(2) * z; }
 
     Cell cell_box(uint64_t id) const {
         const auto c = coords(id);
@@ -510,7 +512,7 @@ public:
         std::vector<uint64_t> out;
         for (uint64_t z : r[2])
             for (uint64_t y : r[1])
-                for (uint64_t x : r[0]) out.push_back(x + stride(1) * y + stride(2) * z);
+                for (uint64_t x : r[0]) out.push_back(cell_id(x, y, z));
         return out;
     }
 
@@ -1283,7 +1285,7 @@ private:
             }
             for (long z = lo[2]; z <= hi[2]; ++z)
                 for (long y = lo[1]; y <= hi[1]; ++y)
-                    for (long x = lo[0]; x <= hi[0]; ++x) redone[uint64_t(x) + stride(1) * uint64_t(y) + stride(2) * uint64_t(z)].push_back(uint32_t(t));
+                    for (long x = lo[0]; x <= hi[0]; ++x) redone[cell_id(uint64_t(x), uint64_t(y), uint64_t(z))].push_back(uint32_t(t));
         }
         std::unordered_map<uint64_t, std::vector<Tri>> near;  // a cell looked in → the triangles meeting it
         auto in_cell = [&](uint64_t id) -> const std::vector<Tri>& {
@@ -1306,7 +1308,7 @@ private:
             for (long z = lo[2]; z <= hi[2]; ++z)
                 for (long y = lo[1]; y <= hi[1]; ++y)
                     for (long x = lo[0]; x <= hi[0]; ++x)
-                        for (const Tri& t : in_cell(uint64_t(x) + stride(1) * uint64_t(y) + stride(2) * uint64_t(z)))
+                        for (const Tri& t : in_cell(cell_id(uint64_t(x), uint64_t(y), uint64_t(z))))
                             distance = std::min(distance, point_triangle_distance(q, positions_[t[0]], positions_[t[1]], positions_[t[2]]));
             return distance;
         };
@@ -1546,7 +1548,7 @@ private:
                 leaves_domain |= to[b] < 0 || to[b] >= cells_[b];
             }
             if (leaves_domain) break;
-            const uint64_t neighbour = uint64_t(to[0]) + stride(1) * uint64_t(to[1]) + stride(2) * uint64_t(to[2]);
+            const uint64_t neighbour = cell_id(uint64_t(to[0]), uint64_t(to[1]), uint64_t(to[2]));
             const auto [id, existed] = crossing_at(k, q, h);
             if (previous >= 0) add_link(previous, id);
             else if (first < 0) first = id;
@@ -2616,7 +2618,7 @@ private:
                     for (long dx = -radius; dx <= radius; ++dx) {
                         const long k[3] = {long(c[0]) + dx, long(c[1]) + dy, long(c[2]) + dz};
                         if (k[0] >= 0 && k[1] >= 0 && k[2] >= 0 && k[0] < cells_[0] && k[1] < cells_[1] && k[2] < cells_[2])
-                            tube.insert(uint64_t(k[0]) + stride(1) * uint64_t(k[1]) + stride(2) * uint64_t(k[2]));
+                            tube.insert(cell_id(uint64_t(k[0]), uint64_t(k[1]), uint64_t(k[2])));
                     }
         }
         return tube;

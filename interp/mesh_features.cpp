@@ -1077,9 +1077,7 @@ private:
                 if (std::find(ends[e].begin(), ends[e].end(), v) != ends[e].end()) return e;
             return -1;
         };
-        auto near_run = [&](const Tri& t) {
-            Vec c{};
-            for (int a = 0; a < 3; ++a) c[a] = (positions_[t[0]][a] + positions_[t[1]][a] + positions_[t[2]][a]) / 3;
+        auto near_run = [&](const Vec& c) {
             for (std::size_t i = 0; i + 1 < run.size(); ++i)
                 if (segment_distance(c, positions_[run[i]], positions_[run[i + 1]]) <= kChamferReach * h) return true;
             return false;
@@ -1126,9 +1124,7 @@ private:
         for (std::size_t at = 0; at < queue.size(); ++at) {
             const Tri& t = triangles[queue[at]];
             if (queue.size() > kMaxChamferTriangles * run.size()) return false;  // not one chamfer's
-            if (!near_run(t)) {  // it goes on past an end, or it is not one chamfer's
-                Vec c{};
-                for (int a = 0; a < 3; ++a) c[a] = (positions_[t[0]][a] + positions_[t[1]][a] + positions_[t[2]][a]) / 3;
+            if (const Vec c = centroid(t); !near_run(c)) {  // it goes on past an end, or it is not one chamfer's
                 const Vec along = sub(positions_[run.back()], positions_[run.front()]);
                 const double where = dot(sub(c, positions_[run.front()]), along) / dot(along, along);
                 leak = where < 0 ? 1 : where > 1 ? 2 : 0;
@@ -1147,31 +1143,13 @@ private:
         }
         region = queue;
         if (region.empty()) return false;
-        // Its boundary: one loop, the region a disc (V − E + F = 1).
-        std::set<std::pair<uint32_t, uint32_t>> directed;
-        std::set<uint32_t> vertices;
-        for (uint32_t t : region)
-            for (int e = 0; e < 3; ++e) {
-                if (!directed.insert({triangles[t][e], triangles[t][(e + 1) % 3]}).second) return false;
-                vertices.insert(triangles[t][e]);
-            }
-        std::map<uint32_t, uint32_t> next;
-        std::size_t undirected = 0;
-        for (const auto& [u, w] : directed) {
-            if (directed.count({w, u})) {
-                undirected += u < w;
-                continue;
-            }
-            ++undirected;
-            if (!next.emplace(u, w).second) return false;  // the boundary touches itself
-        }
-        if (long(vertices.size()) - long(undirected) + long(region.size()) != 1) return false;
-        std::vector<uint32_t> loop{next.begin()->first};
-        for (uint32_t at = next.begin()->second; at != loop.front(); at = next[at]) {
-            if (loop.size() > next.size() || !next.count(at)) return false;
-            loop.push_back(at);
-        }
-        if (loop.size() != next.size()) return false;
+        // Its boundary: one loop, the region a disc.
+        std::vector<Tri> chamfer_triangles;
+        for (uint32_t t : region) chamfer_triangles.push_back(triangles[t]);
+        std::vector<std::vector<uint32_t>> rings;
+        long euler = 0;
+        if (!boundary_rings(chamfer_triangles, nullptr, rings, euler) || rings.size() != 1 || euler != 1) return false;
+        std::vector<uint32_t>& loop = rings.front();
         // One point of the edge at each end, and between them one side on each face.
         std::size_t corner[2] = {loop.size(), loop.size()};
         for (std::size_t i = 0; i < loop.size(); ++i) {
@@ -2190,12 +2168,21 @@ private:
     /// annulus). False also when a vertex off the boundary lies outside the cell.
     bool boundary_rings(const std::vector<uint32_t>& patch, const Cell& cell, std::vector<std::vector<uint32_t>>& rings,
                         long& euler) const {
+        std::vector<Tri> triangles;
+        triangles.reserve(patch.size());
+        for (uint32_t t : patch) triangles.push_back(mesh_.triangles[t]);
+        return boundary_rings(triangles, &cell, rings, euler);
+    }
+
+    /// The same for triangles given as such; with no `cell`, inner vertices may lie anywhere.
+    bool boundary_rings(const std::vector<Tri>& patch, const Cell* cell, std::vector<std::vector<uint32_t>>& rings,
+                        long& euler) const {
         // Sorted vectors, not maps: a band's patch has thousands of triangles (Tor1 at 128 nodes).
         using Edge = std::pair<uint32_t, uint32_t>;
         std::vector<Edge> directed;
         directed.reserve(patch.size() * 3);
-        for (uint32_t t : patch)
-            for (int k = 0; k < 3; ++k) directed.push_back({mesh_.triangles[t][k], mesh_.triangles[t][(k + 1) % 3]});
+        for (const Tri& t : patch)
+            for (int k = 0; k < 3; ++k) directed.push_back({t[k], t[(k + 1) % 3]});
         std::sort(directed.begin(), directed.end());
         if (std::adjacent_find(directed.begin(), directed.end()) != directed.end()) return false;  // twice one way
         std::vector<Edge> next;  // the boundary edges, by their first vertex
@@ -2233,9 +2220,9 @@ private:
             }
             rings.push_back(std::move(ring));
         }
-        for (std::size_t i = 0; i < directed.size(); ++i)
+        for (std::size_t i = 0; cell && i < directed.size(); ++i)
             if ((i == 0 || directed[i - 1].first != directed[i].first) && after(directed[i].first) == next.size() &&
-                !cell.contains(mesh_.vertices[directed[i].first], -1e-9 * cell.h))
+                !cell->contains(positions_[directed[i].first], -1e-9 * cell->h))
                 return false;
         return true;
     }
@@ -2336,12 +2323,14 @@ private:
         return std::fabs(field_.value(0)) <= bound * slope;
     }
 
-    /// Whether triangle t's centroid is within kMaxCentroidDistance cells of the surface.
-    bool centroid_near_surface(const Tri& t, double h) const {
-        Vec centroid{};
-        for (int a = 0; a < 3; ++a) centroid[a] = (positions_[t[0]][a] + positions_[t[1]][a] + positions_[t[2]][a]) / 3;
-        return near_surface(centroid, kMaxCentroidDistance * h);
+    Vec centroid(const Tri& t) const {
+        Vec c{};
+        for (int a = 0; a < 3; ++a) c[a] = (positions_[t[0]][a] + positions_[t[1]][a] + positions_[t[2]][a]) / 3;
+        return c;
     }
+
+    /// Whether triangle t's centroid is within kMaxCentroidDistance cells of the surface.
+    bool centroid_near_surface(const Tri& t, double h) const { return near_surface(centroid(t), kMaxCentroidDistance * h); }
 
     /// The vertices projected onto the plane across the unit vector `normal`.
     std::vector<std::array<double, 2>> projected(const std::vector<uint32_t>& vertices, const Vec& normal) const {
@@ -3102,9 +3091,7 @@ private:
         for (std::size_t k = 0; k < crease.size(); ++k) buckets[key(positions_[crease[k]], 0, 0, 0)].push_back(k);
         std::vector<double> distance(patch.size(), std::numeric_limits<double>::infinity());
         for (std::size_t i = 0; i < patch.size(); ++i) {
-            const Tri& t = mesh_.triangles[patch[i]];
-            Vec c{};
-            for (int a = 0; a < 3; ++a) c[a] = (mesh_.vertices[t[0]][a] + mesh_.vertices[t[1]][a] + mesh_.vertices[t[2]][a]) / 3;
+            const Vec c = centroid(mesh_.triangles[patch[i]]);
             for (int dz = -1; dz <= 1; ++dz)
                 for (int dy = -1; dy <= 1; ++dy)
                     for (int dx = -1; dx <= 1; ++dx)
@@ -3240,8 +3227,7 @@ private:
             for (int k = 0; k < 3; ++k) normals[k] += normals_[x][k];
         const double area = norm(tn) / 2;
         if (!(area >= kMinChainArea * h * h) || !(dot(tn, normals) > 0)) return inf;
-        if (!near_surface(Vec{(u[0] + v[0] + w[0]) / 3, (u[1] + v[1] + w[1]) / 3, (u[2] + v[2] + w[2]) / 3}, kMaxBandDistance * h))
-            return inf;
+        if (!near_surface(centroid({a, b, c}), kMaxBandDistance * h)) return inf;
         for (const auto& [x, y] : {std::pair{a, b}, std::pair{b, c}, std::pair{c, a}}) {
             const auto [it, fresh] = midpoints.try_emplace(uint64_t(std::min(x, y)) << 32 | std::max(x, y), false);
             if (fresh) {

@@ -15,6 +15,7 @@
 #include <limits>
 #include <map>
 #include <numbers>
+#include <numeric>
 #include <optional>
 #include <set>
 #include <tuple>
@@ -1143,6 +1144,12 @@ private:
         }
         region = queue;
         if (region.empty()) return false;
+        // The triangles at the run's first end may hold another chamfer meeting this one only
+        // there (the run's beyond that end, Chainik and Tor1): of the pieces across edges, the
+        // one that reaches the other end is this run's.
+        if (!keep_piece_reaching(region, triangles, [&](uint32_t v) { return at_end(v) == 1; },
+                                 [&](uint32_t v) { return std::find(inside.begin(), inside.end(), v) != inside.end(); }))
+            return false;
         // Its boundary: one loop, the region a disc.
         std::vector<Tri> chamfer_triangles;
         for (uint32_t t : region) chamfer_triangles.push_back(triangles[t]);
@@ -1184,6 +1191,42 @@ private:
             if (!loft_open(side, crease, h, reach, strips)) return false;
         }
         return !triangles_cross(strips, strips, h);  // the two strips, and each in itself
+    }
+
+    /// `region` (triangles' indices) cut to its one piece across edges with a vertex that
+    /// `reaches`; unchanged where it is one piece, or where no piece or several do. False
+    /// where a piece left out has a vertex that `must_stay` (a crossing whose fan is lifted).
+    static bool keep_piece_reaching(std::vector<uint32_t>& region, const std::vector<Tri>& triangles,
+                                    const std::function<bool(uint32_t)>& reaches, const std::function<bool(uint32_t)>& must_stay) {
+        std::vector<std::size_t> parent(region.size());
+        std::iota(parent.begin(), parent.end(), std::size_t{0});
+        auto root = [&](std::size_t i) {
+            while (parent[i] != i) i = parent[i] = parent[parent[i]];
+            return i;
+        };
+        std::map<std::pair<uint32_t, uint32_t>, std::size_t> with_edge;
+        for (std::size_t i = 0; i < region.size(); ++i)
+            for (int e = 0; e < 3; ++e) {
+                const Tri& t = triangles[region[i]];
+                const auto [it, fresh] = with_edge.try_emplace(std::minmax(t[e], t[(e + 1) % 3]), i);
+                if (!fresh) parent[root(i)] = root(it->second);
+            }
+        std::set<std::size_t> pieces, reaching;
+        for (std::size_t i = 0; i < region.size(); ++i) {
+            pieces.insert(root(i));
+            for (uint32_t v : triangles[region[i]])
+                if (reaches(v)) reaching.insert(root(i));
+        }
+        if (pieces.size() == 1 || reaching.size() != 1) return true;
+        std::vector<uint32_t> piece;
+        for (std::size_t i = 0; i < region.size(); ++i) {
+            if (root(i) == *reaching.begin()) piece.push_back(region[i]);
+            else
+                for (uint32_t v : triangles[region[i]])
+                    if (must_stay(v)) return false;
+        }
+        region = std::move(piece);
+        return true;
     }
 
     /// The strip between two paths from one point to another (`side`, then `crease`, the strip

@@ -52,6 +52,7 @@
 #include "runtime/grid.hpp"
 #include "runtime/mesh.hpp"
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -70,12 +71,20 @@ struct FeatureStats {
     double farthest_crossing_off = 0;  ///< the farthest of those from the mesh, in cells (within two sought)
 };
 
+/// Where the domain cuts the solid: the mesher closes it there with caps, `margin` of a step
+/// inside the faces marked (faces[2·axis]: the lower one, faces[2·axis + 1]: the upper).
+struct DomainCaps {
+    std::array<bool, 6> faces{};
+    double margin = 0;
+};
+
 /// Rewrites `mesh` (made on `grid`'s lattice; `triangle_cells[t]` the cell of triangle t,
-/// x + cells_x·(y + cells_y·z)) with vertices on the sharp features of `root`'s R-operations.
+/// x + cells_x·(y + cells_y·z)) with vertices on the sharp features of `root`'s R-operations
+/// and of the `caps` that close it where the domain cuts it.
 /// Unused vertices are dropped; the order of the result depends on the input only. The
 /// crossings left off the mesh are measured only for `stats` (the golden runner, Python and
 /// `fortu bench` do without).
 void sharpen_features(const ir::Graph& graph, ir::NodeId root, const Grid& grid, Mesh& mesh,
-                      const std::vector<uint64_t>& triangle_cells, FeatureStats* stats = nullptr);
+                      const std::vector<uint64_t>& triangle_cells, const DomainCaps& caps, FeatureStats* stats = nullptr);
 
 }  // namespace fortu

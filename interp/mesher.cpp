@@ -130,6 +130,7 @@ struct Worker {
     std::vector<Dual*> dual_slots;
     std::vector<LeafMesh> leaves;
     MeshStats stats;
+    std::array<bool, 6> cut_faces{};  ///< the domain's faces with a node inside the model, in leaves with triangles
 };
 
 template <class T>
@@ -255,6 +256,19 @@ public:
                 }
         ++w.stats.leaves;
         if (inside_count == 0) return;
+        // The faces the solid is cut by (its caps'), for the sharp-feature pass.
+        bool on_border = false;
+        for (int a = 0; a < 3; ++a) on_border |= c0[a] == 0 || c0[a] + nc[a] == l_.cells[a];
+        for (int z = 0; z < nn[2] && on_border; ++z)
+            for (int y = 0; y < nn[1]; ++y)
+                for (int x = 0; x < nn[0]; ++x) {
+                    const int g[3] = {c0[0] + x, c0[1] + y, c0[2] + z};
+                    if (values[local(x, y, z)] > 0)
+                        for (int a = 0; a < 3; ++a) {
+                            if (g[a] == 0) w.cut_faces[std::size_t(2 * a)] = true;
+                            if (g[a] == l_.cells[a]) w.cut_faces[std::size_t(2 * a + 1)] = true;
+                        }
+                }
 
         LeafMesh m;
         m.leaf = leaf;
@@ -544,7 +558,10 @@ Mesh extract_mesh(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
     if (options.cancel && options.cancel->load()) return {};
     std::vector<LeafMesh> leaves;
     MeshStats total;
+    DomainCaps caps;
+    caps.margin = kEdgeMargin;
     for (Worker& w : workers) {
+        for (std::size_t f = 0; f < 6; ++f) caps.faces[f] = caps.faces[f] || w.cut_faces[f];
         std::move(w.leaves.begin(), w.leaves.end(), std::back_inserter(leaves));
         total.boxes += w.stats.boxes;
         total.leaves += w.stats.leaves;
@@ -556,7 +573,7 @@ Mesh extract_mesh(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
     std::vector<uint64_t> triangle_cells;
     Mesh mesh = weld(leaves, l, triangle_cells, options);
     leaves.clear();
-    sharpen_features(graph, root, grid, mesh, triangle_cells, stats ? &total.features : nullptr);
+    sharpen_features(graph, root, grid, mesh, triangle_cells, caps, stats ? &total.features : nullptr);
     if (stats) *stats = total;
     return mesh;
 }

@@ -718,6 +718,37 @@ TEST_CASE("corners at the centres of their cells are found") {
     }
 }
 
+TEST_CASE("where the domain cuts a solid, its caps' rims and corners are sharp too") {
+    // The mesher closes a solid the domain cuts with caps 1/1000 of a step inside the domain's
+    // faces (its outer nodes count as outside); the feature pass takes the caps' planes for
+    // operands (MIN), so an edge running into a face ends in a corner on the cap, and the rims
+    // and the domain's own edges are chains of mesh edges. Marching tetrahedra alone cut them
+    // by up to a cell (new_euclid's apex edge into its top face: 0.74 cells at 96 nodes).
+    test::ScratchDir dir;
+    // The pentagon prism without its ends, on z in [-1.98, 1.98]: 13 nodes of 0.33 there, as
+    // along x (41) and y (31), so the caps are at z = ±(1.98 − 0.00033).
+    const std::string prism =
+        dir.write("prism_cut.fortu", "ARGUMENT X, Y, Z;\nRETURN (4 - Y) & (Y + 3) & (7 - X) & (X + 4 - Y) & (Y + X + 3);\n");
+    const double cap = 1.98 - 1e-3 * (3.96 / 12);
+    std::vector<P3> corners = prism_corners();
+    for (P3& c : corners) c[2] = c[2] > 0 ? cap : -cap;
+    for (const std::string rsystem : {"r0", "alpha=0.5", "minmax"}) {
+        SUBCASE(rsystem.c_str()) {
+            check_straight_edges(dir, {"prism_cut", prism, {-5.2, -4.24, -1.98}, {8, 5.66, 1.98}, 41, rsystem}, corners,
+                                 prism_edges());
+        }
+    }
+    // A ball wider than the domain [-1, 1]³, cut by a plane beyond it (edges of its own: a
+    // smooth field keeps marching tetrahedra's caps): the mesh is the domain's box, its caps
+    // 1/10000 inside (21 nodes), with its 8 corners and 12 edges (no surface for distances).
+    SUBCASE("the domain's box") {
+        const std::string ball = dir.write("ball_round_domain.fortu", "ARGUMENT X, Y, Z;\nRETURN (4 - X^2 - Y^2 - Z^2) & (2 - X);\n");
+        const double half = 1 - 1e-3 * 0.1;
+        check_straight_edges(dir, {"ball_round_domain", ball, {-1, -1, -1}, {1, 1, 1}, 21, ""},
+                             box_corners({half, half, half}), box_edges(), 0);
+    }
+}
+
 TEST_CASE("sharp edges and corners on grid nodes, grid edges and cell faces stay exact") {
     // Lattices that put the features on the lattice: a corner on a node is shared by eight
     // cells, an edge along a grid edge by four, an edge in a grid plane by two; the zero nodes

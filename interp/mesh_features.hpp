@@ -46,6 +46,9 @@
 // two on it, marching tetrahedra cut across the edge's wedge (a chamfer: triangles with
 // vertices on both operands' faces); the chamfer, found by the faces its vertices lie on, is
 // replaced by two strips from its sides to the crossings, so the edge is on the mesh there too.
+// Where the domain cuts a model with edges of its own, the caps that close it are operands
+// (the model MIN each cap's plane), so their rims, the domain's edges and the corners where the
+// model's edges run into them are put back the same way.
 #pragma once
 
 #include "interp/ir/ir.hpp"

@@ -15,7 +15,6 @@
 #include <limits>
 #include <map>
 #include <numbers>
-#include <numeric>
 #include <optional>
 #include <set>
 #include <tuple>
@@ -1210,31 +1209,28 @@ private:
     /// where a piece left out has a vertex that `must_stay` (a crossing whose fan is lifted).
     static bool keep_piece_reaching(std::vector<uint32_t>& region, const std::vector<Tri>& triangles,
                                     const std::function<bool(uint32_t)>& reaches, const std::function<bool(uint32_t)>& must_stay) {
-        std::vector<std::size_t> parent(region.size());
-        std::iota(parent.begin(), parent.end(), std::size_t{0});
-        auto root = [&](std::size_t i) {
-            while (parent[i] != i) i = parent[i] = parent[parent[i]];
-            return i;
-        };
-        std::map<std::pair<uint32_t, uint32_t>, std::size_t> with_edge;
-        for (std::size_t i = 0; i < region.size(); ++i)
+        Pieces joined;
+        std::map<std::pair<uint32_t, uint32_t>, int> with_edge;
+        for (int i = 0; i < int(region.size()); ++i) {
+            joined.add(i);
             for (int e = 0; e < 3; ++e) {
-                const Tri& t = triangles[region[i]];
+                const Tri& t = triangles[region[std::size_t(i)]];
                 const auto [it, fresh] = with_edge.try_emplace(std::minmax(t[e], t[(e + 1) % 3]), i);
-                if (!fresh) parent[root(i)] = root(it->second);
+                if (!fresh) joined.join(i, it->second);
             }
-        std::set<std::size_t> pieces, reaching;
-        for (std::size_t i = 0; i < region.size(); ++i) {
-            pieces.insert(root(i));
-            for (uint32_t v : triangles[region[i]])
-                if (reaches(v)) reaching.insert(root(i));
+        }
+        std::set<int> pieces, reaching;
+        for (int i = 0; i < int(region.size()); ++i) {
+            pieces.insert(joined.root(i));
+            for (uint32_t v : triangles[region[std::size_t(i)]])
+                if (reaches(v)) reaching.insert(joined.root(i));
         }
         if (pieces.size() == 1 || reaching.size() != 1) return true;
         std::vector<uint32_t> piece;
-        for (std::size_t i = 0; i < region.size(); ++i) {
-            if (root(i) == *reaching.begin()) piece.push_back(region[i]);
+        for (int i = 0; i < int(region.size()); ++i) {
+            if (joined.root(i) == *reaching.begin()) piece.push_back(region[std::size_t(i)]);
             else
-                for (uint32_t v : triangles[region[i]])
+                for (uint32_t v : triangles[region[std::size_t(i)]])
                     if (must_stay(v)) return false;
         }
         region = std::move(piece);

@@ -244,31 +244,24 @@ public:
         }
         bool inside[kLeafNodes * kLeafNodes * kLeafNodes];
         int inside_count = 0;
+        std::array<bool, 6> cut{};  // the domain's faces with a node inside the model here
         for (int z = 0; z < nn[2]; ++z)
             for (int y = 0; y < nn[1]; ++y)
                 for (int x = 0; x < nn[0]; ++x) {
                     const int g[3] = {c0[0] + x, c0[1] + y, c0[2] + z};
-                    bool border = false;
-                    for (int a = 0; a < 3; ++a) border |= g[a] == 0 || g[a] == l_.cells[a];
                     const int i = local(x, y, z);
+                    bool border = false;
+                    for (int a = 0; a < 3; ++a) {
+                        const bool lower = g[a] == 0, upper = g[a] == l_.cells[a];
+                        border |= lower || upper;
+                        if (values[i] > 0) cut[std::size_t(2 * a)] |= lower, cut[std::size_t(2 * a + 1)] |= upper;
+                    }
                     inside[i] = !border && values[i] > 0;
                     inside_count += inside[i];
                 }
         ++w.stats.leaves;
         if (inside_count == 0) return;
-        // The faces the solid is cut by (its caps'), for the sharp-feature pass.
-        bool on_border = false;
-        for (int a = 0; a < 3; ++a) on_border |= c0[a] == 0 || c0[a] + nc[a] == l_.cells[a];
-        for (int z = 0; z < nn[2] && on_border; ++z)
-            for (int y = 0; y < nn[1]; ++y)
-                for (int x = 0; x < nn[0]; ++x) {
-                    const int g[3] = {c0[0] + x, c0[1] + y, c0[2] + z};
-                    if (values[local(x, y, z)] > 0)
-                        for (int a = 0; a < 3; ++a) {
-                            if (g[a] == 0) w.cut_faces[std::size_t(2 * a)] = true;
-                            if (g[a] == l_.cells[a]) w.cut_faces[std::size_t(2 * a + 1)] = true;
-                        }
-                }
+        for (std::size_t f = 0; f < 6; ++f) w.cut_faces[f] = w.cut_faces[f] || cut[f];  // caps here, for the feature pass
 
         LeafMesh m;
         m.leaf = leaf;

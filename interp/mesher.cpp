@@ -16,6 +16,7 @@
 #include <memory>
 #include <stdexcept>
 #include <tuple>
+#include <type_traits>
 #include <vector>
 
 namespace fortu {
@@ -34,6 +35,14 @@ constexpr double kEdgeMargin = 1e-3;
 constexpr double kEdgeTolerance = 1e-7;
 constexpr int kMaxEdgeSteps = 64;
 constexpr int kEdgeLanes = 64;                ///< edges solved together on one tape run
+/// Where the formula is NaN only on a plane, a line or a point (0/0: ARCTAN(Y/X) on the Z
+/// axis, ABS(X)/X on X = 0), a node or an edge point there takes the field's value this
+/// fraction of a cell away, along kNudge: a node on such a plane would otherwise count as
+/// outside and cut a hairline slit or tunnel through the solid (Chainik at 129 nodes, down
+/// its axis). Where the field is NaN around the point too, it stays NaN.
+constexpr double kNudgeFraction = 1e-7;
+/// A direction off every grid plane and line, and off their diagonals.
+constexpr double kNudge[3] = {1.0, 0.7548776662466927, 0.5698402909980532};
 
 // ---- The Kuhn split of a cube and the triangles of each sign case -------------------------
 
@@ -129,6 +138,10 @@ struct Worker {
     std::vector<Dual> dual_lanes;
     std::vector<Dual*> dual_slots;
     std::vector<LeafMesh> leaves;
+    std::vector<double> nudged_lanes;            ///< the whole model's tape at nudged points
+    std::vector<double*> nudged_slots;
+    std::vector<Dual> nudged_dual_lanes;
+    std::vector<Dual*> nudged_dual_slots;
     MeshStats stats;
     std::array<bool, 6> cut_faces{};  ///< the domain's faces with a node inside the model, in leaves with triangles
 };
@@ -143,7 +156,8 @@ void bind_slots(std::vector<T>& lanes, std::vector<T*>& slots, const Tape& tape,
 
 class Mesher {
 public:
-    Mesher(const Grid& grid) {
+    /// `whole`: the model's tape in max-live slots, for points whose field is NaN (kNudge).
+    Mesher(const Grid& grid, const Tape& whole) : whole_(whole) {
         const Axis* axes[3] = {&grid.x, &grid.y, &grid.z};
         for (int a = 0; a < 3; ++a) {
             l_.min[a] = axes[a]->min;
@@ -241,6 +255,9 @@ public:
             run_lanes<double, 0>(tape.code.data(), tape.code.size(), w.slots.data(), count);
             std::copy_n(w.slots[tape.root_slot], count, values);
             w.stats.node_evaluations += count;
+            w.stats.node_evaluations += read_beside_undefined(values, count, w.nudged_lanes, w.nudged_slots, [&](int i) {
+                return Vec{l_.at(0, c0[0] + i % nn[0]), l_.at(1, c0[1] + i / nn[0] % nn[1]), l_.at(2, c0[2] + i / (nn[0] * nn[1]))};
+            });
         }
         bool inside[kLeafNodes * kLeafNodes * kLeafNodes];
         int inside_count = 0;
@@ -352,7 +369,12 @@ public:
                 for (auto [slot, value] : tape.constants) std::fill_n(w.dual_slots[slot], lanes, Dual(value));
                 run_lanes<Dual, 0>(tape.code.data(), tape.code.size(), w.dual_slots.data(), lanes);
                 w.stats.edge_evaluations += lanes;
-                const Dual* f = w.dual_slots[tape.root_slot];
+                Dual* f = w.dual_slots[tape.root_slot];
+                w.stats.edge_evaluations += read_beside_undefined(f, lanes, w.nudged_dual_lanes, w.nudged_dual_slots, [&](int l) {
+                    const auto& p = pending[active[first + std::size_t(l)]];
+                    const double s = t[active[first + std::size_t(l)]];
+                    return Vec{p.from[0] + s * p.along[0], p.from[1] + s * p.along[1], p.from[2] + s * p.along[2]};
+                });
                 for (int l = 0; l < lanes; ++l) {
                     const std::size_t e = active[first + l];
                     const auto& p = pending[e];
@@ -400,8 +422,42 @@ public:
         return EdgeRef(owner << 12 | ((u[0] + kLeafCells * u[1] + kLeafCells * kLeafCells * u[2]) * 8 + dir));
     }
 
+    /// Each NaN among values[0, count) (of the points position(i)) replaced by the field
+    /// kNudge beside its point, on the whole model's tape, which every leaf shares (a leaf's
+    /// shortened tape holds only inside its box, and the leaves either side of a node must
+    /// agree on its sign). Returns how many were.
+    template <class T, class Position>
+    std::size_t read_beside_undefined(T* values, int count, std::vector<T>& lanes, std::vector<T*>& slots,
+                                      const Position& position) const {
+        auto value = [](const T& v) {
+            if constexpr (std::is_same_v<T, Dual>) return v.v;
+            else return v;
+        };
+        bool any = false;  // a scan the compiler vectorises: NaN is rare
+        for (int i = 0; i < count; ++i) any |= value(values[i]) != value(values[i]);
+        if (!any) return 0;
+        std::vector<int> undefined;
+        for (int i = 0; i < count; ++i)
+            if (std::isnan(value(values[i]))) undefined.push_back(i);
+        const int n = int(undefined.size());
+        bind_slots(lanes, slots, whole_, n);
+        for (int k = 0; k < n; ++k) {
+            const Vec p = position(undefined[std::size_t(k)]);
+            for (auto [slot, axis] : whole_.arguments) {
+                const double x = p[axis] + kNudgeFraction * kNudge[axis] * l_.step[axis];
+                if constexpr (std::is_same_v<T, Dual>) slots[slot][k] = Dual::variable(x, axis);
+                else slots[slot][k] = x;
+            }
+        }
+        for (auto [slot, constant] : whole_.constants) std::fill_n(slots[slot], n, T(constant));
+        run_lanes<T, 0>(whole_.code.data(), whole_.code.size(), slots.data(), n);
+        for (int k = 0; k < n; ++k) values[undefined[std::size_t(k)]] = slots[whole_.root_slot][k];
+        return std::size_t(n);
+    }
+
 private:
     Lattice l_;
+    const Tape& whole_;
 };
 
 /// Where `edge` is in a leaf's increasing crossing edges: a binary search without branches.
@@ -508,7 +564,11 @@ Mesh extract_mesh(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
     if (grid.dims != 3) throw std::invalid_argument("a mesh needs a 3D model (X, Y, Z)");
     if (grid.x.nodes < 2 || grid.y.nodes < 2 || grid.z.nodes < 2)
         throw std::invalid_argument("a mesh needs at least 2 grid nodes along each axis");
-    const Mesher mesher(grid);
+    const auto pruning = std::make_shared<const Tape>(pruning_tape(graph, root));
+    Tape whole;
+    SlotScratch whole_scratch;
+    reallocate_slots(*pruning, whole, whole_scratch);
+    const Mesher mesher(grid, whole);
     const Lattice& l = mesher.lattice();
     int size = 1;
     while (size < std::max({l.leaves[0], l.leaves[1], l.leaves[2]})) size *= 2;
@@ -519,8 +579,7 @@ Mesh extract_mesh(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
         Mesher::Box box;
         std::shared_ptr<const Tape> tape;
     };
-    std::vector<Item> items{{Mesher::Box{{0, 0, 0}, size},
-                             std::make_shared<const Tape>(pruning_tape(graph, root))}};
+    std::vector<Item> items{{Mesher::Box{{0, 0, 0}, size}, pruning}};
     // Breadth-first until there are enough boxes to share, then depth-first per worker.
     const std::size_t enough = std::size_t(32) * threads;
     while (items.size() < enough && !items.empty() && items.front().box.size > 1) {

@@ -111,6 +111,26 @@ TEST_CASE("a solid the domain cuts is closed on the domain's outer nodes") {
     }
 }
 
+TEST_CASE("where the formula is NaN only on a grid plane or line, the nodes there take the field beside it") {
+    // X / X is NaN on X = 0, ARCTAN(Y / X) on the Z axis; on 21 nodes over [-1, 1]³ both lie
+    // on nodes. Counted outside, those nodes split the ball in two (Euler characteristic 4)
+    // or bore a tunnel down its axis (0), with caps through its middle.
+    for (const char* text : {"ARGUMENT X, Y, Z\nRETURN (0.2209 - X*X - Y*Y - Z*Z) * (X / X)\n",
+                             "ARGUMENT X, Y, Z\nRETURN 0.2209 - X*X - Y*Y - Z*Z + 0 * ARCTAN(Y / X)\n"}) {
+        CAPTURE(text);
+        const Model m = model_of(text);
+        const Mesh mesh = extract_mesh(m.graph, m.root, cube(1, 21));
+        CHECK(open_edges(mesh) == 0);
+        std::map<std::pair<uint32_t, uint32_t>, int> edges;
+        for (const auto& t : mesh.triangles)
+            for (int k = 0; k < 3; ++k) ++edges[{std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3])}];
+        CHECK(long(mesh.vertices.size()) - long(edges.size()) + long(mesh.triangles.size()) == 2);
+        double worst = 0;
+        for (const auto& p : mesh.vertices) worst = std::max(worst, std::fabs(std::hypot(p[0], p[1], p[2]) - 0.47));
+        CHECK(worst < 1e-8);  // a ten-millionth of a cell beside the plane or line: 9.5e-9
+    }
+}
+
 TEST_CASE("meshing refuses a 2D grid") {
     const Model m = model_of("ARGUMENT X, Y\nRETURN 0.25 - X*X - Y*Y\n");
     Grid g;

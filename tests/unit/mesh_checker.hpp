@@ -167,7 +167,8 @@ inline std::string worst_points(const MeshCheck& r) {
 }
 
 /// Whether p is inside the solid: f > 0. A zero or a NaN counts as outside, as the mesher's
-/// nodes do (a NaN where SQRT's argument is negative ends the solid).
+/// nodes do (a NaN where SQRT's argument is negative ends the solid; one only on a plane or a
+/// line, 0/0, the mesher reads beside it, and samples never fall on it).
 inline bool inside(const PointEvaluator& f, const P3& p) { return f(p).value > 0; }
 
 /// An upper bound on the distance from p to the solid's boundary (a point every neighbourhood

@@ -1391,7 +1391,18 @@ private:
         const auto& op = field_.operations()[k];
         const double ga = norm(field_.gradient(op.a)), gb = norm(field_.gradient(op.b));
         const double scale = 1 + (std::isfinite(ga) ? ga : 0) + (std::isfinite(gb) ? gb : 0);
-        return std::fabs(field_.value(0)) <= 1e-8 * h * scale;
+        if (!(std::fabs(field_.value(0)) <= 1e-8 * h * scale)) return false;
+        if (field_.value(0) != 0) return true;
+        // Exactly zero: also where two parts of the solid are joined on a plane, inside it
+        // (zero_inside); the edges of the operations there are not on its surface.
+        double probes[kZeroProbes];
+        for (int k = 0; k < kZeroProbes; ++k) {
+            const Vec offset = zero_probe(k);
+            field_.at({p[0] + offset[0] * h, p[1] + offset[1] * h, p[2] + offset[2] * h});
+            probes[k] = field_.value(0);
+        }
+        field_.at(p);
+        return !zero_inside(probes);
     }
 
     static uint64_t visit_key(uint64_t cell, int k) { return cell * 4096 + uint64_t(k % 4096); }

@@ -81,6 +81,32 @@ struct DomainCaps {
     double margin = 0;
 };
 
+/// Where the model is exactly zero, it is inside the solid, not on its surface, when a
+/// ten-millionth of a cell away along the 26 directions of zero_probe it is nowhere negative
+/// or NaN, somewhere positive, and exactly zero both ways along one of them: two parts joined
+/// on a plane or a line (Chainik's lid and body at z = 3, B & 0 = 0 and 0 | 0 = 0). The mesher
+/// counts such nodes inside, where a plane of them would be a slit through the solid; the
+/// sharp-feature pass takes the operations' edges there for inside. A zero on the surface has
+/// outside points round it; where all 26 directions miss them (a concave edge whose outside
+/// wedge is thin), it is still not zero along a line through it, to the last bit.
+inline constexpr int kZeroProbes = 26;
+inline constexpr double kZeroProbeFraction = 1e-7;
+/// Probe k's offset in cells: each of −1, 0, 1 per axis but (0, 0, 0).
+inline std::array<double, 3> zero_probe(int k) {
+    const int code = k < 13 ? k : k + 1;  // skip the centre, code 13
+    return {kZeroProbeFraction * (code % 3 - 1), kZeroProbeFraction * (code / 3 % 3 - 1), kZeroProbeFraction * (code / 9 - 1)};
+}
+/// The verdict from the model's values at the kZeroProbes probes.
+inline bool zero_inside(const double* probes) {
+    bool positive = false, zero_line = false;
+    for (int k = 0; k < kZeroProbes; ++k) {
+        if (!(probes[k] >= 0)) return false;
+        positive = positive || probes[k] > 0;
+        zero_line = zero_line || (probes[k] == 0 && probes[kZeroProbes - 1 - k] == 0);  // k's opposite
+    }
+    return positive && zero_line;
+}
+
 /// Rewrites `mesh` (made on `grid`'s lattice; `triangle_cells[t]` the cell of triangle t,
 /// x + cells_x·(y + cells_y·z)) with vertices on the sharp features of `root`'s R-operations
 /// and of the `caps` that close it where the domain cuts it.

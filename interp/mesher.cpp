@@ -255,7 +255,7 @@ public:
             run_lanes<double, 0>(tape.code.data(), tape.code.size(), w.slots.data(), count);
             std::copy_n(w.slots[tape.root_slot], count, values);
             w.stats.node_evaluations += count;
-            w.stats.node_evaluations += read_beside_undefined(values, count, w.nudged_lanes, w.nudged_slots, [&](int i) {
+            w.stats.node_evaluations += read_beside(values, count, w.nudged_lanes, w.nudged_slots, [&](int i) {
                 return Vec{l_.at(0, c0[0] + i % nn[0]), l_.at(1, c0[1] + i / nn[0] % nn[1]), l_.at(2, c0[2] + i / (nn[0] * nn[1]))};
             });
         }
@@ -370,7 +370,7 @@ public:
                 run_lanes<Dual, 0>(tape.code.data(), tape.code.size(), w.dual_slots.data(), lanes);
                 w.stats.edge_evaluations += lanes;
                 Dual* f = w.dual_slots[tape.root_slot];
-                w.stats.edge_evaluations += read_beside_undefined(f, lanes, w.nudged_dual_lanes, w.nudged_dual_slots, [&](int l) {
+                w.stats.edge_evaluations += read_beside(f, lanes, w.nudged_dual_lanes, w.nudged_dual_slots, [&](int l) {
                     const auto& p = pending[active[first + std::size_t(l)]];
                     const double s = t[active[first + std::size_t(l)]];
                     return Vec{p.from[0] + s * p.along[0], p.from[1] + s * p.along[1], p.from[2] + s * p.along[2]};
@@ -423,35 +423,56 @@ public:
     }
 
     /// Each NaN among values[0, count) (of the points position(i)) replaced by the field
-    /// kNudge beside its point, on the whole model's tape, which every leaf shares (a leaf's
-    /// shortened tape holds only inside its box, and the leaves either side of a node must
-    /// agree on its sign). Returns how many were.
+    /// kNudge beside its point, and each zero inside the solid (zero_inside, mesh_features.hpp)
+    /// by the least positive value round it. On the whole model's tape, which every leaf
+    /// shares: a leaf's shortened tape holds only inside its box, and the leaves either side
+    /// of a node must agree on its sign. Returns the points evaluated.
     template <class T, class Position>
-    std::size_t read_beside_undefined(T* values, int count, std::vector<T>& lanes, std::vector<T*>& slots,
-                                      const Position& position) const {
+    std::size_t read_beside(T* values, int count, std::vector<T>& lanes, std::vector<T*>& slots,
+                            const Position& position) const {
         auto value = [](const T& v) {
             if constexpr (std::is_same_v<T, Dual>) return v.v;
             else return v;
         };
-        bool any = false;  // a scan the compiler vectorises: NaN is rare
-        for (int i = 0; i < count; ++i) any |= value(values[i]) != value(values[i]);
+        bool any = false;  // a scan the compiler vectorises: NaN and zeros are rare
+        for (int i = 0; i < count; ++i) any |= (value(values[i]) != value(values[i])) | (value(values[i]) == 0);
         if (!any) return 0;
-        std::vector<int> undefined;
-        for (int i = 0; i < count; ++i)
-            if (std::isnan(value(values[i]))) undefined.push_back(i);
-        const int n = int(undefined.size());
+        std::vector<int> points;  // NaN: one lane, beside it; zero: kZeroProbes, round it
+        std::vector<Vec> offsets;  // in cells
+        for (int i = 0; i < count; ++i) {
+            const double v = value(values[i]);
+            if (std::isnan(v)) points.push_back(i), offsets.push_back({kNudgeFraction * kNudge[0], kNudgeFraction * kNudge[1], kNudgeFraction * kNudge[2]});
+            if (v == 0)
+                for (int k = 0; k < kZeroProbes; ++k) points.push_back(i), offsets.push_back(zero_probe(k));
+        }
+        const int n = int(points.size());
         bind_slots(lanes, slots, whole_, n);
         for (int k = 0; k < n; ++k) {
-            const Vec p = position(undefined[std::size_t(k)]);
+            const Vec p = position(points[std::size_t(k)]);
             for (auto [slot, axis] : whole_.arguments) {
-                const double x = p[axis] + kNudgeFraction * kNudge[axis] * l_.step[axis];
+                const double x = p[axis] + offsets[std::size_t(k)][axis] * l_.step[axis];
                 if constexpr (std::is_same_v<T, Dual>) slots[slot][k] = Dual::variable(x, axis);
                 else slots[slot][k] = x;
             }
         }
         for (auto [slot, constant] : whole_.constants) std::fill_n(slots[slot], n, T(constant));
         run_lanes<T, 0>(whole_.code.data(), whole_.code.size(), slots.data(), n);
-        for (int k = 0; k < n; ++k) values[undefined[std::size_t(k)]] = slots[whole_.root_slot][k];
+        const T* beside = slots[whole_.root_slot];
+        for (int k = 0; k < n;) {
+            T& v = values[points[std::size_t(k)]];
+            if (value(v) != 0) {  // a NaN
+                v = beside[k++];
+                continue;
+            }
+            double probes[kZeroProbes];
+            int least = k;
+            for (int j = 0; j < kZeroProbes; ++j) {
+                probes[j] = value(beside[k + j]);
+                if (probes[j] > 0 && (value(beside[least]) <= 0 || probes[j] < value(beside[least]))) least = k + j;
+            }
+            if (zero_inside(probes)) v = beside[least];
+            k += kZeroProbes;
+        }
         return std::size_t(n);
     }
 

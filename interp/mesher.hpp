@@ -29,8 +29,9 @@
 // (box_simplify.hpp, keeping values exact), as the sign renderer does for pictures. Memory and
 // time grow with the surface's area, not the grid's volume. A solid that the domain cuts is
 // closed on the domain's outer nodes, which count as outside. A node where the formula is 0/0
-// (ARCTAN(Y/X) on the Z axis) takes the field beside it, not NaN's "outside": a node line or
-// plane of NaN would bore a hairline tunnel or slit through the solid.
+// (ARCTAN(Y/X) on the Z axis) takes the field beside it, not NaN's "outside", and a zero the
+// solid only touches from inside (two parts joined on a plane) counts as inside: a node line
+// or plane of them would bore a hairline tunnel or slit through the solid.
 #pragma once
 
 #include "interp/engine.hpp"
@@ -56,7 +57,8 @@ struct MeshStats {
 /// The closed mesh of `root`'s zero surface on `grid` (3D, at least 2 nodes per axis; its
 /// nodes are the mesh's lattice, grid.x.nodes − 1 cells along X). Positive is inside; zero,
 /// NaN and the domain's outer nodes are outside, but a point where the field is NaN takes its
-/// value from 1e-7 of a cell beside it (0/0 on a plane or a line is not a slit in the solid).
+/// value from 1e-7 of a cell beside it, and a zero with the field positive that far either
+/// side counts as inside (0/0 on a plane, or a zero inside the solid, is not a slit in it).
 /// Throws std::invalid_argument for a 2D grid.
 Mesh extract_mesh(const ir::Graph& graph, ir::NodeId root, const Grid& grid, const EvalOptions& options = {},
                   MeshStats* stats = nullptr);

@@ -111,12 +111,14 @@ TEST_CASE("a solid the domain cuts is closed on the domain's outer nodes") {
     }
 }
 
-TEST_CASE("where the formula is NaN only on a grid plane or line, the nodes there take the field beside it") {
-    // X / X is NaN on X = 0, ARCTAN(Y / X) on the Z axis; on 21 nodes over [-1, 1]³ both lie
-    // on nodes. Counted outside, those nodes split the ball in two (Euler characteristic 4)
-    // or bore a tunnel down its axis (0), with caps through its middle.
+TEST_CASE("where the field is NaN on a grid plane or line, or zero inside the solid, nodes take it from beside") {
+    // X / X is NaN on X = 0, ARCTAN(Y / X) on the Z axis, and the union of the ball's two
+    // halves cut at Z = 0 is zero there (B & 0 = 0, 0 | 0 = 0); on 21 nodes over [-1, 1]³
+    // those lie on nodes. Counted outside, the nodes split the ball in two (Euler
+    // characteristic 4) or bore a tunnel down its axis (0), with caps through its middle.
     for (const char* text : {"ARGUMENT X, Y, Z\nRETURN (0.2209 - X*X - Y*Y - Z*Z) * (X / X)\n",
-                             "ARGUMENT X, Y, Z\nRETURN 0.2209 - X*X - Y*Y - Z*Z + 0 * ARCTAN(Y / X)\n"}) {
+                             "ARGUMENT X, Y, Z\nRETURN 0.2209 - X*X - Y*Y - Z*Z + 0 * ARCTAN(Y / X)\n",
+                             "ARGUMENT X, Y, Z\nVARIABLE B = 0.2209 - X*X - Y*Y - Z*Z\nRETURN (B & Z) | (B & -Z)\n"}) {
         CAPTURE(text);
         const Model m = model_of(text);
         const Mesh mesh = extract_mesh(m.graph, m.root, cube(1, 21));

@@ -255,7 +255,7 @@ public:
             run_lanes<double, 0>(tape.code.data(), tape.code.size(), w.slots.data(), count);
             std::copy_n(w.slots[tape.root_slot], count, values);
             w.stats.node_evaluations += count;
-            w.stats.node_evaluations += read_beside(values, count, w.nudged_lanes, w.nudged_slots, [&](int i) {
+            w.stats.node_evaluations += read_beside(values, count, w.nudged_lanes, w.nudged_slots, [](int) { return true; }, [&](int i) {
                 return Vec{l_.at(0, c0[0] + i % nn[0]), l_.at(1, c0[1] + i / nn[0] % nn[1]), l_.at(2, c0[2] + i / (nn[0] * nn[1]))};
             });
         }
@@ -286,7 +286,10 @@ public:
         struct Pending {
             Vec from, along;        ///< inside node, and the vector to the outside one
             double f_in, f_out;
+            bool zero_end;          ///< an end is exactly zero: the edge may lie in a plane of zeros
         };
+        // The nodes' values as evaluated, before read_beside: zeros inside the solid are zeros.
+        const double* evaluated = all_inside ? nullptr : w.slots[tape.root_slot];
         std::vector<Pending> pending;
         for (int z = 0; z < nc[2]; ++z)
             for (int y = 0; y < nc[1]; ++y)
@@ -302,7 +305,8 @@ public:
                         const Vec p{l_.at(0, c0[0] + ux), l_.at(1, c0[1] + uy), l_.at(2, c0[2] + uz)};
                         const Vec q{l_.at(0, c0[0] + vx), l_.at(1, c0[1] + vy), l_.at(2, c0[2] + vz)};
                         m.edges.push_back(uint16_t((x + kLeafCells * y + kLeafCells * kLeafCells * z) * 8 + dir));
-                        pending.push_back({p, {q[0] - p[0], q[1] - p[1], q[2] - p[2]}, values[in], values[out]});
+                        pending.push_back({p, {q[0] - p[0], q[1] - p[1], q[2] - p[2]}, values[in], values[out],
+                                           (evaluated && evaluated[in] == 0) || values[out] == 0});
                     }
         m.positions.resize(pending.size());
         m.normals.resize(pending.size());
@@ -370,7 +374,10 @@ public:
                 run_lanes<Dual, 0>(tape.code.data(), tape.code.size(), w.dual_slots.data(), lanes);
                 w.stats.edge_evaluations += lanes;
                 Dual* f = w.dual_slots[tape.root_slot];
-                w.stats.edge_evaluations += read_beside(f, lanes, w.nudged_dual_lanes, w.nudged_dual_slots, [&](int l) {
+                // A zero inside the solid along an edge only where the edge ends on a zero (lies
+                // in a plane of them); elsewhere Newton lands on exact zeros of the surface.
+                const auto ends_on_zero = [&](int l) { return pending[active[first + std::size_t(l)]].zero_end; };
+                w.stats.edge_evaluations += read_beside(f, lanes, w.nudged_dual_lanes, w.nudged_dual_slots, ends_on_zero, [&](int l) {
                     const auto& p = pending[active[first + std::size_t(l)]];
                     const double s = t[active[first + std::size_t(l)]];
                     return Vec{p.from[0] + s * p.along[0], p.from[1] + s * p.along[1], p.from[2] + s * p.along[2]};
@@ -423,13 +430,13 @@ public:
     }
 
     /// Each NaN among values[0, count) (of the points position(i)) replaced by the field
-    /// kNudge beside its point, and each zero inside the solid (zero_inside, mesh_features.hpp)
-    /// by the least positive value round it. On the whole model's tape, which every leaf
+    /// kNudge beside its point, and each zero that zero_may_be_inside(i) and that is inside the
+    /// solid (zero_inside, mesh_features.hpp) by the least positive value round it. On the whole model's tape, which every leaf
     /// shares: a leaf's shortened tape holds only inside its box, and the leaves either side
     /// of a node must agree on its sign. Returns the points evaluated.
-    template <class T, class Position>
+    template <class T, class MayBeInside, class Position>
     std::size_t read_beside(T* values, int count, std::vector<T>& lanes, std::vector<T*>& slots,
-                            const Position& position) const {
+                            const MayBeInside& zero_may_be_inside, const Position& position) const {
         auto value = [](const T& v) {
             if constexpr (std::is_same_v<T, Dual>) return v.v;
             else return v;
@@ -442,9 +449,10 @@ public:
         for (int i = 0; i < count; ++i) {
             const double v = value(values[i]);
             if (std::isnan(v)) points.push_back(i), offsets.push_back({kNudgeFraction * kNudge[0], kNudgeFraction * kNudge[1], kNudgeFraction * kNudge[2]});
-            if (v == 0)
+            if (v == 0 && zero_may_be_inside(i))
                 for (int k = 0; k < kZeroProbes; ++k) points.push_back(i), offsets.push_back(zero_probe(k));
         }
+        if (points.empty()) return 0;
         const int n = int(points.size());
         bind_slots(lanes, slots, whole_, n);
         for (int k = 0; k < n; ++k) {

@@ -96,15 +96,21 @@ inline std::array<double, 3> zero_probe(int k) {
     const int code = k < 13 ? k : k + 1;  // skip the centre, code 13
     return {kZeroProbeFraction * (code % 3 - 1), kZeroProbeFraction * (code / 3 % 3 - 1), kZeroProbeFraction * (code / 9 - 1)};
 }
+/// Whether the probes are exactly zero both ways along one of their directions: the zero
+/// is part of a plane or a line of them.
+inline bool on_zero_line(const double* probes) {
+    for (int k = 0; k < kZeroProbes / 2; ++k)
+        if (probes[k] == 0 && probes[kZeroProbes - 1 - k] == 0) return true;  // k and its opposite
+    return false;
+}
 /// The verdict from the model's values at the kZeroProbes probes.
 inline bool zero_inside(const double* probes) {
-    bool positive = false, zero_line = false;
+    bool positive = false;
     for (int k = 0; k < kZeroProbes; ++k) {
         if (!(probes[k] >= 0)) return false;
         positive = positive || probes[k] > 0;
-        zero_line = zero_line || (probes[k] == 0 && probes[kZeroProbes - 1 - k] == 0);  // k's opposite
     }
-    return positive && zero_line;
+    return positive && on_zero_line(probes);
 }
 
 /// Rewrites `mesh` (made on `grid`'s lattice; `triangle_cells[t]` the cell of triangle t,

@@ -156,7 +156,8 @@ void bind_slots(std::vector<T>& lanes, std::vector<T*>& slots, const Tape& tape,
 
 class Mesher {
 public:
-    /// `whole`: the model's tape in max-live slots, for points whose field is NaN (kNudge).
+    /// `whole`: the model's tape in max-live slots, for points whose field is NaN or zero
+    /// (read_beside).
     Mesher(const Grid& grid, const Tape& whole) : whole_(whole) {
         const Axis* axes[3] = {&grid.x, &grid.y, &grid.z};
         for (int a = 0; a < 3; ++a) {
@@ -257,7 +258,7 @@ public:
             w.stats.node_evaluations += count;
             w.stats.node_evaluations += read_beside(values, count, w.nudged_lanes, w.nudged_slots, [](int) { return true; }, [&](int i) {
                 return Vec{l_.at(0, c0[0] + i % nn[0]), l_.at(1, c0[1] + i / nn[0] % nn[1]), l_.at(2, c0[2] + i / (nn[0] * nn[1]))};
-            });
+            }, [](int) { return -1; });
         }
         bool inside[kLeafNodes * kLeafNodes * kLeafNodes];
         int inside_count = 0;
@@ -381,6 +382,11 @@ public:
                     const auto& p = pending[active[first + std::size_t(l)]];
                     const double s = t[active[first + std::size_t(l)]];
                     return Vec{p.from[0] + s * p.along[0], p.from[1] + s * p.along[1], p.from[2] + s * p.along[2]};
+                }, [&](int l) {
+                    const auto& p = pending[active[first + std::size_t(l)]];
+                    int code = 13;  // zero_probe's numbering: (dx + 1) + 3 (dy + 1) + 9 (dz + 1)
+                    for (int a = 0, scale = 1; a < 3; ++a, scale *= 3) code += scale * (p.along[a] > 0 ? 1 : p.along[a] < 0 ? -1 : 0);
+                    return code < 13 ? code : code - 1;
                 });
                 for (int l = 0; l < lanes; ++l) {
                     const std::size_t e = active[first + l];
@@ -430,13 +436,15 @@ public:
     }
 
     /// Each NaN among values[0, count) (of the points position(i)) replaced by the field
-    /// kNudge beside its point, and each zero that zero_may_be_inside(i) and that is inside the
-    /// solid (zero_inside, mesh_features.hpp) by the least positive value round it. On the whole model's tape, which every leaf
-    /// shares: a leaf's shortened tape holds only inside its box, and the leaves either side
-    /// of a node must agree on its sign. Returns the points evaluated.
-    template <class T, class MayBeInside, class Position>
+    /// kNudge beside its point, and each zero that zero_may_be_inside(i) and that is inside
+    /// the solid (zero_inside, mesh_features.hpp) by the least positive value round it. On the
+    /// whole model's tape, which every leaf shares: a leaf's shortened tape holds only inside
+    /// its box, and the leaves either side of a node must agree on its sign. along_probe(i):
+    /// the probe along the edge point i lies on, or −1 (a node). Returns the points evaluated.
+    template <class T, class MayBeInside, class Position, class AlongProbe>
     std::size_t read_beside(T* values, int count, std::vector<T>& lanes, std::vector<T*>& slots,
-                            const MayBeInside& zero_may_be_inside, const Position& position) const {
+                            const MayBeInside& zero_may_be_inside, const Position& position,
+                            const AlongProbe& along_probe) const {
         auto value = [](const T& v) {
             if constexpr (std::is_same_v<T, Dual>) return v.v;
             else return v;
@@ -473,12 +481,21 @@ public:
                 continue;
             }
             double probes[kZeroProbes];
-            int least = k;
+            int least = k, lowest = k;
             for (int j = 0; j < kZeroProbes; ++j) {
                 probes[j] = value(beside[k + j]);
                 if (probes[j] > 0 && (value(beside[least]) <= 0 || probes[j] < value(beside[least]))) least = k + j;
+                if (probes[j] < value(beside[lowest])) lowest = k + j;
             }
             if (zero_inside(probes)) v = beside[least];
+            // An edge solve's point on a face of the solid that the edge lies in, zero along it
+            // (Chainik's wall top at z = 3, beside the lid joined on the rest of that plane):
+            // the edge enters the face where the zeros stop being inside, so the point counts
+            // as outside and the solve goes on to there, the crease, instead of ending on the
+            // first zero it lands on.
+            else if (const int d = along_probe(points[std::size_t(k)]);
+                     d >= 0 && value(beside[lowest]) < 0 && probes[d] == 0 && probes[kZeroProbes - 1 - d] == 0)
+                v = beside[lowest];
             k += kZeroProbes;
         }
         return std::size_t(n);

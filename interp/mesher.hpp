@@ -57,8 +57,9 @@ struct MeshStats {
 /// The closed mesh of `root`'s zero surface on `grid` (3D, at least 2 nodes per axis; its
 /// nodes are the mesh's lattice, grid.x.nodes − 1 cells along X). Positive is inside; zero,
 /// NaN and the domain's outer nodes are outside, but a point where the field is NaN takes its
-/// value from 1e-7 of a cell beside it, and a zero with the field positive that far either
-/// side counts as inside (0/0 on a plane, or a zero inside the solid, is not a slit in it).
+/// value from 1e-7 of a cell beside it, and a zero inside the solid (zero_inside,
+/// mesh_features.hpp) counts as inside: 0/0 on a plane, or two parts joined on one, is not a
+/// slit in it.
 /// Throws std::invalid_argument for a 2D grid.
 Mesh extract_mesh(const ir::Graph& graph, ir::NodeId root, const Grid& grid, const EvalOptions& options = {},
                   MeshStats* stats = nullptr);

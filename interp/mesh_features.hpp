@@ -96,11 +96,20 @@ inline std::array<double, 3> zero_probe(int k) {
     const int code = k < 13 ? k : k + 1;  // skip the centre, code 13
     return {kZeroProbeFraction * (code % 3 - 1), kZeroProbeFraction * (code / 3 % 3 - 1), kZeroProbeFraction * (code / 9 - 1)};
 }
+/// The probe toward `direction`'s signs (an edge's, in cells): zero_probe's inverse.
+inline int zero_probe_toward(const std::array<double, 3>& direction) {
+    int code = 13;  // (dx + 1) + 3 (dy + 1) + 9 (dz + 1)
+    for (int a = 0, scale = 1; a < 3; ++a, scale *= 3) code += scale * (direction[std::size_t(a)] > 0 ? 1 : direction[std::size_t(a)] < 0 ? -1 : 0);
+    return code < 13 ? code : code - 1;
+}
+/// Whether the probes are exactly zero both ways along probe k's direction (k and its
+/// opposite, kZeroProbes − 1 − k).
+inline bool zero_both_ways(const double* probes, int k) { return probes[k] == 0 && probes[kZeroProbes - 1 - k] == 0; }
 /// Whether the probes are exactly zero both ways along one of their directions: the zero
 /// is part of a plane or a line of them.
 inline bool on_zero_line(const double* probes) {
     for (int k = 0; k < kZeroProbes / 2; ++k)
-        if (probes[k] == 0 && probes[kZeroProbes - 1 - k] == 0) return true;  // k and its opposite
+        if (zero_both_ways(probes, k)) return true;
     return false;
 }
 /// The verdict from the model's values at the kZeroProbes probes.

@@ -382,12 +382,7 @@ public:
                     const auto& p = pending[active[first + std::size_t(l)]];
                     const double s = t[active[first + std::size_t(l)]];
                     return Vec{p.from[0] + s * p.along[0], p.from[1] + s * p.along[1], p.from[2] + s * p.along[2]};
-                }, [&](int l) {
-                    const auto& p = pending[active[first + std::size_t(l)]];
-                    int code = 13;  // zero_probe's numbering: (dx + 1) + 3 (dy + 1) + 9 (dz + 1)
-                    for (int a = 0, scale = 1; a < 3; ++a, scale *= 3) code += scale * (p.along[a] > 0 ? 1 : p.along[a] < 0 ? -1 : 0);
-                    return code < 13 ? code : code - 1;
-                });
+                }, [&](int l) { return zero_probe_toward(pending[active[first + std::size_t(l)]].along); });
                 for (int l = 0; l < lanes; ++l) {
                     const std::size_t e = active[first + l];
                     const auto& p = pending[e];
@@ -494,7 +489,7 @@ public:
             // as outside and the solve goes on to there, the crease, instead of ending on the
             // first zero it lands on.
             else if (const int d = along_probe(points[std::size_t(k)]);
-                     d >= 0 && value(beside[lowest]) < 0 && probes[d] == 0 && probes[kZeroProbes - 1 - d] == 0)
+                     d >= 0 && value(beside[lowest]) < 0 && zero_both_ways(probes, d))
                 v = beside[lowest];
             k += kZeroProbes;
         }

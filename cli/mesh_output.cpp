@@ -30,6 +30,19 @@ std::string farthest_off(const FeatureStats& features) {
     return fmt::format(" (the farthest {:.3g} cells)", features.farthest_crossing_off);
 }
 
+/// The note a mesh run gives when sharp edges are more than half a cell off the mesh (the
+/// bound the mesher otherwise keeps), so that a user who needs exact edges knows without
+/// --stats; "" when none is.
+std::string edges_off_note(const FeatureStats& features) {
+    if (features.crossings_off_mesh == 0 || features.farthest_crossing_off <= 0.5) return "";
+    const std::string farthest = std::isfinite(features.farthest_crossing_off)
+                                     ? fmt::format("up to {:.3g} cells", features.farthest_crossing_off)
+                                     : "more than 2 cells";
+    return fmt::format("fortu: note: sharp edges are off the mesh by {} at {} points where they cross cell faces "
+                       "({} such points are on it): wedges thinner than a cell whose cells could not be redone\n",
+                       farthest, features.crossings_off_mesh, features.edge_vertices);
+}
+
 }  // namespace
 
 bool is_mesh_output(const std::string& path) {
@@ -64,6 +77,7 @@ int run_mesh_output(const Model& model, const Grid& grid, const CliOptions& o, d
                                  grid.x.min, grid.x.max, grid.y.min, grid.y.max, grid.z.min, grid.z.max);
     if (!o.quiet)
         std::cerr << fmt::format("wrote {} ({} triangles)\n", shown_output_path(o.output), mesh.triangles.size());
+    std::cerr << edges_off_note(stats.features);
     std::ostream& report = report_stream(o);
     if (!o.stats) {
         report << fmt::format("{}: {} triangles, {} vertices on {}x{}x{} nodes in {}; wrote {}\n",

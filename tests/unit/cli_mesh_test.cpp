@@ -843,6 +843,9 @@ TEST_CASE("--stats counts the points where sharp edges cross cell faces that the
     CHECK(off_mesh(steinmetz, "--size 13") == "0 edge crossings off the mesh");
     CHECK(off_mesh(steinmetz, "--size 13 --domain -1.2:1.2,-1.2:1.2,-1.2:1.2") ==
           "3 edge crossings off the mesh (the farthest 0.000707 cells)");
+    // Without --stats, a run says so only where an edge is more than half a cell off.
+    const std::string plain = fmt::format("-o {} --quiet", quote(dir / "m.ply"));
+    CHECK(run_fortu(fmt::format("run {} --size 13 --domain -1.2:1.2,-1.2:1.2,-1.2:1.2 {}", quote(steinmetz), plain)).out == "");
     // Tor1's edges, twisted round its tube, at 24 nodes: 62 crossings off, 30 of them more than
     // half a cell, the farthest 0.805 cells (its test bound is √3/2, not half a cell); 188 and
     // 68 before the chamfers marching tetrahedra cut across its wedges were lifted onto the
@@ -853,6 +856,9 @@ TEST_CASE("--stats counts the points where sharp edges cross cell faces that the
     const std::string tor1 = std::string(FORTU_SHARED_DIR) + "/data/ranok-scripts/Tor1.fortu";
     if (!std::filesystem::exists(tor1)) return;
     CHECK(off_mesh(tor1, "--size 96") == "128 edge crossings off the mesh (the farthest 1.44 cells)");
+    CHECK(run_fortu(fmt::format("run {} --size 96 --domain -6:6,-5:5,-4.5:4.5 {}", quote(tor1), plain)).out ==
+          "fortu: note: sharp edges are off the mesh by up to 1.44 cells at 128 points where they cross cell faces "
+          "(2224 such points are on it): wedges thinner than a cell whose cells could not be redone\n");
     std::string stats;
     CHECK(off_mesh(tor1, "--size 24", &stats) == "62 edge crossings off the mesh (the farthest 0.805 cells)");
     const MeshLattice lattice = lattice_of(stats);

@@ -43,6 +43,17 @@ std::string edges_off_note(const FeatureStats& features) {
                        farthest, features.crossings_off_mesh, features.edge_vertices);
 }
 
+/// The note a mesh run gives when it finds parts thinner than a cell left out (MeshStats::
+/// unreached_cells): how many cells and where the first is; "" when none is found.
+std::string thin_parts_note(const MeshStats& stats) {
+    if (stats.unreached_cells == 0) return "";
+    return fmt::format("fortu: note: parts of the solid thinner than a cell (or holes in it) are missing from the mesh: "
+                       "in {} cell{}, the first at ({:.6g}, {:.6g}, {:.6g}), the centre is on the other side of the "
+                       "surface from all eight corners\n",
+                       stats.unreached_cells, stats.unreached_cells == 1 ? "" : "s", stats.first_unreached[0],
+                       stats.first_unreached[1], stats.first_unreached[2]);
+}
+
 }  // namespace
 
 bool is_mesh_output(const std::string& path) {
@@ -77,7 +88,7 @@ int run_mesh_output(const Model& model, const Grid& grid, const CliOptions& o, d
                                  grid.x.min, grid.x.max, grid.y.min, grid.y.max, grid.z.min, grid.z.max);
     if (!o.quiet)
         std::cerr << fmt::format("wrote {} ({} triangles)\n", shown_output_path(o.output), mesh.triangles.size());
-    std::cerr << edges_off_note(stats.features);
+    std::cerr << edges_off_note(stats.features) << thin_parts_note(stats);
     std::ostream& report = report_stream(o);
     if (!o.stats) {
         report << fmt::format("{}: {} triangles, {} vertices on {}x{}x{} nodes in {}; wrote {}\n",
@@ -89,7 +100,7 @@ int run_mesh_output(const Model& model, const Grid& grid, const CliOptions& o, d
     report << fmt::format(
         "model: {}\nmesh: {} triangles, {} vertices, {}x{}x{} nodes, x [{}, {}], y [{}, {}], z [{}, {}]\n"
         "octree: {} boxes tested, {} leaves of 8^3 cells, {} nodes evaluated ({:.2f}% of {}), "
-        "{} edge solves for {} vertices\n"
+        "{} edge solves for {} vertices, {} cells with a part thinner than a cell left out\n"
         "sharp features: {} cells tested, {} vertices on edges, {} at corners, {} mesh edges along them, "
         "{} edge crossings off the mesh{}\n"
         "time: compile {:.3f} s, mesh {:.3f} s, write {:.3f} s\n"
@@ -98,7 +109,8 @@ int run_mesh_output(const Model& model, const Grid& grid, const CliOptions& o, d
         grid.slices(),
         grid.x.min, grid.x.max, grid.y.min, grid.y.max, grid.z.min, grid.z.max, stats.boxes, stats.leaves,
         stats.node_evaluations, 100.0 * double(stats.node_evaluations) / double(grid.points()),
-        format_operations(double(grid.points())), stats.edge_evaluations, stats.crossing_edges, stats.features.cells_tested,
+        format_operations(double(grid.points())), stats.edge_evaluations, stats.crossing_edges, stats.unreached_cells,
+        stats.features.cells_tested,
         stats.features.edge_vertices, stats.features.corner_vertices, stats.features.chain_edges,
         stats.features.crossings_off_mesh, farthest_off(stats.features), compile_seconds,
         mesh_seconds, write_seconds, format_bytes(mesh_peak), format_bytes(peak_rss_bytes()));

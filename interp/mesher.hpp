@@ -40,6 +40,7 @@
 #include "runtime/grid.hpp"
 #include "runtime/mesh.hpp"
 
+#include <array>
 #include <cstddef>
 
 namespace fortu {
@@ -51,6 +52,13 @@ struct MeshStats {
     std::size_t node_evaluations = 0; ///< grid nodes evaluated (on shortened tapes)
     std::size_t edge_evaluations = 0; ///< Newton/bisection steps on crossing edges, summed
     std::size_t crossing_edges = 0;   ///< marching-tetrahedra vertices
+    /// Cells whose centre is on the other side of the surface from all eight of their nodes
+    /// (inside the solid with every node outside, or the reverse): a part of the solid or a
+    /// hole in it thinner than a cell, which marching tetrahedra leave out, its surface at
+    /// least nearly half a cell from the mesh. Counted only where stats are asked for; cells
+    /// on the domain's faces (whose nodes count as outside, closing the solid) are not.
+    std::size_t unreached_cells = 0;
+    std::array<double, 3> first_unreached{};  ///< the centre of the one with the lowest cell index
     FeatureStats features;            ///< the sharp features put back (mesh_features.hpp)
 };
 

@@ -858,7 +858,10 @@ TEST_CASE("--stats counts the points where sharp edges cross cell faces that the
     CHECK(off_mesh(tor1, "--size 96") == "128 edge crossings off the mesh (the farthest 1.44 cells)");
     CHECK(run_fortu(fmt::format("run {} --size 96 --domain -6:6,-5:5,-4.5:4.5 {}", quote(tor1), plain)).out ==
           "fortu: note: sharp edges are off the mesh by up to 1.44 cells at 128 points where they cross cell faces "
-          "(2224 such points are on it): wedges thinner than a cell whose cells could not be redone\n");
+          "(2224 such points are on it): wedges thinner than a cell whose cells could not be redone\n"
+          "fortu: note: parts of the solid thinner than a cell (or holes in it) are missing from the mesh: in 28 cells, "
+          "the first at (2.27368, -1.32632, -1.32632), the centre is on the other side of the surface from all eight "
+          "corners\n");  // the same wedges, where they are thinner than a cell
     std::string stats;
     CHECK(off_mesh(tor1, "--size 24", &stats) == "62 edge crossings off the mesh (the farthest 0.805 cells)");
     const MeshLattice lattice = lattice_of(stats);
@@ -886,6 +889,24 @@ TEST_CASE("--stats counts the points where sharp edges cross cell faces that the
     CHECK(off == 62);
     CHECK(over_half == 30);
     CHECK(farthest == doctest::Approx(0.805).epsilon(0.001));
+}
+
+TEST_CASE("a run says where the mesh leaves out a part thinner than a cell, and --stats counts the cells") {
+    // A ball cut by a slit 0.02 wide, between the nodes z = 0 and 0.1 of 21 over [-1, 1]^3:
+    // the centres of the cells at z = 0.05 inside the ball are in the slit, their corners in
+    // the solid (interp_mesher_test counts them from the formula). A ball alone has none.
+    test::ScratchDir dir;
+    const std::string slit = dir.write("slit.fortu", "ARGUMENT X, Y, Z\nRETURN (0.49 - X*X - Y*Y - Z*Z) & ((Z - 0.05)^2 - 0.0001)\n");
+    const std::string ball = dir.write("ball.fortu", "ARGUMENT X, Y, Z\nRETURN 0.49 - X*X - Y*Y - Z*Z\n");
+    const std::string args = fmt::format("--size 21 -o {} --quiet", quote(dir / "m.ply"));
+    CHECK(run_fortu(fmt::format("run {} {}", quote(slit), args)).out ==
+          "fortu: note: parts of the solid thinner than a cell (or holes in it) are missing from the mesh: in 120 cells, "
+          "the first at (-0.25, -0.55, 0.05), the centre is on the other side of the surface from all eight corners\n");
+    const auto stats = run_fortu(fmt::format("run {} {} --stats", quote(slit), args), ".", true);
+    CHECK(stats.out.find(", 120 cells with a part thinner than a cell left out\n") != std::string::npos);
+    CHECK(run_fortu(fmt::format("run {} {}", quote(ball), args)).out == "");
+    CHECK(run_fortu(fmt::format("run {} {} --stats", quote(ball), args), ".", true).out.find(", 0 cells with a part thinner") !=
+          std::string::npos);
 }
 
 TEST_CASE("triangles the sharp-feature pass joins across cells stay within half a cell of the surface") {

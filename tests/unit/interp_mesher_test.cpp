@@ -8,6 +8,7 @@
 
 #include <doctest/doctest.h>
 
+#include <array>
 #include <cmath>
 #include <map>
 
@@ -56,6 +57,7 @@ TEST_CASE("mesh vertices are the field's zeros to round-off, with the exact outw
         worst = std::max(worst, std::fabs(r - 0.47));
         for (int k = 0; k < 3; ++k) worst_normal = std::max(worst_normal, std::fabs(mesh.normals[v][k] - p[k] / r));
     }
+    CHECK(stats.unreached_cells == 0);  // smooth and larger than a cell: every part reached
     CHECK(worst < 1e-14);  // ~20 ulp of the radius
     CHECK(worst_normal < 1e-7);  // the gradient at the last Newton iterate, within 1e-7 of an edge of the vertex
 }
@@ -130,6 +132,57 @@ TEST_CASE("where the field is NaN on a grid plane or line, or zero inside the so
         double worst = 0;
         for (const auto& p : mesh.vertices) worst = std::max(worst, std::fabs(std::hypot(p[0], p[1], p[2]) - 0.47));
         CHECK(worst < 1e-8);  // a ten-millionth of a cell beside the plane or line: 9.5e-9
+    }
+}
+
+TEST_CASE("cells whose centre is on the other side from all their nodes are counted: parts thinner than a cell") {
+    // On 21 nodes over [-1, 1]^3 (cells of 0.1) the slab 0.04 < z < 0.06 holds no node but
+    // the centres of the layer of cells at z = 0.05. Cut by a ball it is a disc that marching
+    // tetrahedra leave out, and cut from one, a slit they do not open. The expected counts come
+    // from the cells themselves, here: corners and centre against the formula.
+    const Grid grid = cube(1, 21);
+    auto at = [](int i) { return -1 + 0.1 * i; };
+    auto count_cells = [&](const auto& inside, std::array<double, 3>& first) {
+        std::size_t n = 0;
+        for (int z = 1; z < 19; ++z)  // not the cells on the domain's faces, whose nodes count as outside
+            for (int y = 1; y < 19; ++y)
+                for (int x = 1; x < 19; ++x) {
+                    int in = 0;
+                    for (int c = 0; c < 8; ++c) in += inside(at(x + (c & 1)), at(y + (c >> 1 & 1)), at(z + (c >> 2)));
+                    const bool centre = inside(at(x) + 0.05, at(y) + 0.05, at(z) + 0.05);
+                    if ((in == 0 && centre) || (in == 8 && !centre)) {
+                        if (n++ == 0) first = {at(x) + 0.05, at(y) + 0.05, at(z) + 0.05};
+                    }
+                }
+        return n;
+    };
+    SUBCASE("a disc") {
+        const Model m = model_of("ARGUMENT X, Y, Z\nRETURN (0.0001 - (Z - 0.05)^2) & (0.25 - X*X - Y*Y - Z*Z)\n");
+        MeshStats stats;
+        const Mesh mesh = extract_mesh(m.graph, m.root, grid, {}, &stats);
+        CHECK(mesh.triangles.empty());
+        std::array<double, 3> first{};
+        const std::size_t expected = count_cells([](double x, double y, double z) {
+            return std::fabs(z - 0.05) < 0.01 && x * x + y * y + z * z < 0.25;
+        }, first);
+        CHECK(expected == 80);  // the centres (x, y, 0.05) with x² + y² < 0.2475
+        CHECK(stats.unreached_cells == expected);
+        for (int a = 0; a < 3; ++a) CHECK(stats.first_unreached[std::size_t(a)] == doctest::Approx(first[std::size_t(a)]).epsilon(1e-12));
+    }
+    SUBCASE("a slit") {
+        const Model m = model_of("ARGUMENT X, Y, Z\nRETURN (0.49 - X*X - Y*Y - Z*Z) & ((Z - 0.05)^2 - 0.0001)\n");
+        MeshStats stats;
+        const Mesh mesh = extract_mesh(m.graph, m.root, grid, {}, &stats);
+        CHECK(open_edges(mesh) == 0);
+        std::array<double, 3> first{};
+        const std::size_t expected = count_cells([](double x, double y, double z) {
+            return std::fabs(z - 0.05) > 0.01 && x * x + y * y + z * z < 0.49;
+        }, first);
+        CHECK(expected == 120);
+        CHECK(stats.unreached_cells == expected);
+        for (int a = 0; a < 3; ++a) CHECK(stats.first_unreached[std::size_t(a)] == doctest::Approx(first[std::size_t(a)]).epsilon(1e-12));
+        // Without stats asked for, nothing is counted and the mesh is the same.
+        CHECK(extract_mesh(m.graph, m.root, grid).triangles == mesh.triangles);
     }
 }
 

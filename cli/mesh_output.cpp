@@ -14,6 +14,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <string>
@@ -45,13 +46,16 @@ std::string edges_off_note(const FeatureStats& features) {
 
 /// The note a mesh run gives when it finds parts thinner than a cell left out (MeshStats::
 /// unreached_cells): how many cells and where the first is; "" when none is found.
-std::string thin_parts_note(const MeshStats& stats) {
+std::string thin_parts_note(const MeshStats& stats, const Grid& grid) {
     if (stats.unreached_cells == 0) return "";
+    // A centre on a symmetric domain's middle plane is zero to round-off: shown as 0.
+    const double scale = std::max({grid.x.max - grid.x.min, grid.y.max - grid.y.min, grid.z.max - grid.z.min});
+    auto shown = [&](double v) { return std::fabs(v) < 1e-12 * scale ? 0.0 : v; };
     return fmt::format("fortu: note: parts of the solid thinner than a cell (or holes in it) are missing from the mesh: "
                        "in {} cell{}, the first at ({:.6g}, {:.6g}, {:.6g}), the centre is on the other side of the "
                        "surface from all eight corners\n",
-                       stats.unreached_cells, stats.unreached_cells == 1 ? "" : "s", stats.first_unreached[0],
-                       stats.first_unreached[1], stats.first_unreached[2]);
+                       stats.unreached_cells, stats.unreached_cells == 1 ? "" : "s", shown(stats.first_unreached[0]),
+                       shown(stats.first_unreached[1]), shown(stats.first_unreached[2]));
 }
 
 }  // namespace
@@ -88,7 +92,7 @@ int run_mesh_output(const Model& model, const Grid& grid, const CliOptions& o, d
                                  grid.x.min, grid.x.max, grid.y.min, grid.y.max, grid.z.min, grid.z.max);
     if (!o.quiet)
         std::cerr << fmt::format("wrote {} ({} triangles)\n", shown_output_path(o.output), mesh.triangles.size());
-    std::cerr << edges_off_note(stats.features) << thin_parts_note(stats);
+    std::cerr << edges_off_note(stats.features) << thin_parts_note(stats, grid);
     std::ostream& report = report_stream(o);
     if (!o.stats) {
         report << fmt::format("{}: {} triangles, {} vertices on {}x{}x{} nodes in {}; wrote {}\n",

@@ -1,6 +1,7 @@
 // cli/mesh_output.cpp — run's mesh path: mesh, write, report.
 #include "cli/mesh_output.hpp"
 
+#include "cli/mesh_notes.hpp"
 #include "cli/model_setup.hpp"
 #include "cli/option_table.hpp"
 #include "cli/standard_streams.hpp"
@@ -29,33 +30,6 @@ std::string farthest_off(const FeatureStats& features) {
     if (features.crossings_off_mesh == 0) return "";
     if (!std::isfinite(features.farthest_crossing_off)) return " (the farthest more than 2 cells)";
     return fmt::format(" (the farthest {:.3g} cells)", features.farthest_crossing_off);
-}
-
-/// The note a mesh run gives when sharp edges are more than half a cell off the mesh (the
-/// bound the mesher otherwise keeps), so that a user who needs exact edges knows without
-/// --stats; "" when none is.
-std::string edges_off_note(const FeatureStats& features) {
-    if (features.crossings_off_mesh == 0 || features.farthest_crossing_off <= 0.5) return "";
-    const std::string farthest = std::isfinite(features.farthest_crossing_off)
-                                     ? fmt::format("up to {:.3g} cells", features.farthest_crossing_off)
-                                     : "more than 2 cells";
-    return fmt::format("fortu: note: sharp edges are off the mesh by {} at {} points where they cross cell faces "
-                       "({} such points are on it): wedges thinner than a cell whose cells could not be redone\n",
-                       farthest, features.crossings_off_mesh, features.edge_vertices);
-}
-
-/// The note a mesh run gives when it finds parts thinner than a cell left out (MeshStats::
-/// unreached_cells): how many cells and where the first is; "" when none is found.
-std::string thin_parts_note(const MeshStats& stats, const Grid& grid) {
-    if (stats.unreached_cells == 0) return "";
-    // A centre on a symmetric domain's middle plane is zero to round-off: shown as 0.
-    const double scale = std::max({grid.x.max - grid.x.min, grid.y.max - grid.y.min, grid.z.max - grid.z.min});
-    auto shown = [&](double v) { return std::fabs(v) < 1e-12 * scale ? 0.0 : v; };
-    return fmt::format("fortu: note: parts of the solid thinner than a cell (or holes in it) are missing from the mesh: "
-                       "in {} cell{}, the first at ({:.6g}, {:.6g}, {:.6g}), the centre is on the other side of the "
-                       "surface from all eight corners\n",
-                       stats.unreached_cells, stats.unreached_cells == 1 ? "" : "s", shown(stats.first_unreached[0]),
-                       shown(stats.first_unreached[1]), shown(stats.first_unreached[2]));
 }
 
 }  // namespace
@@ -92,7 +66,7 @@ int run_mesh_output(const Model& model, const Grid& grid, const CliOptions& o, d
                                  grid.x.min, grid.x.max, grid.y.min, grid.y.max, grid.z.min, grid.z.max);
     if (!o.quiet)
         std::cerr << fmt::format("wrote {} ({} triangles)\n", shown_output_path(o.output), mesh.triangles.size());
-    std::cerr << edges_off_note(stats.features) << thin_parts_note(stats, grid);
+    for (const std::string& note : mesh_notes(stats, grid)) std::cerr << "fortu: note: " << note << '\n';
     std::ostream& report = report_stream(o);
     if (!o.stats) {
         report << fmt::format("{}: {} triangles, {} vertices on {}x{}x{} nodes in {}; wrote {}\n",

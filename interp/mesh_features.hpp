@@ -126,8 +126,8 @@ inline bool zero_inside(const double* probes) {
 /// x + cells_x·(y + cells_y·z)) with vertices on the sharp features of `root`'s R-operations
 /// and of the `caps` that close it where the domain cuts it.
 /// Unused vertices are dropped; the order of the result depends on the input only. The
-/// crossings left off the mesh are measured only for `stats` (the golden runner, Python and
-/// `fortu bench` do without).
+/// crossings left off the mesh are measured only for `stats` (the golden runner and `fortu
+/// bench` do without).
 void sharpen_features(const ir::Graph& graph, ir::NodeId root, const Grid& grid, Mesh& mesh,
                       const std::vector<uint64_t>& triangle_cells, const DomainCaps& caps, FeatureStats* stats = nullptr);
 

@@ -3,6 +3,7 @@
 #include "cli/python/model_wrapper.hpp"
 
 #include "cli/data_paths.hpp"
+#include "cli/mesh_notes.hpp"
 #include "cli/model_setup.hpp"
 #include "cli/option_table.hpp"
 #include "cli/python/arrays.hpp"
@@ -299,12 +300,17 @@ py::tuple ModelWrapper::mesh(py::handle size, py::handle domain, int threads, st
     if (const std::optional<MeshRefusal> refusal = mesh_refusal(c.model, grid))
         throw py::value_error(refusal->size_at_fault ? "size: " + refusal->message : refusal->message);
     Mesh mesh;
+    MeshStats stats;
     EvalOptions options;
     options.threads = threads;
     run_interruptible([&](const std::atomic<bool>* cancel) {
         options.cancel = cancel;
-        mesh = extract_mesh(c.model.graph, c.model.root, grid, options);
+        mesh = extract_mesh(c.model.graph, c.model.root, grid, options, &stats);
     });
+    // What the mesh leaves out, as the command line's notes: warnings, which a caller may
+    // turn into errors or silence.
+    for (const std::string& note : mesh_notes(stats, grid))
+        if (PyErr_WarnEx(PyExc_UserWarning, note.c_str(), 1) < 0) throw py::error_already_set();
     return py::make_tuple(owning_rows(std::move(mesh.vertices)), owning_rows(std::move(mesh.triangles)),
                           owning_rows(std::move(mesh.normals)));
 }

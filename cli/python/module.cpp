@@ -158,7 +158,8 @@ threads: 0 for all cores (the mesh is the same on any number).
 max_points: grids of more nodes raise ValueError (default 2**28, the command line's limit;
     only the cells the surface crosses are kept).
 constants / **R: CONSTANT values for this call, as grid() takes them.
-ValueError for a 2D model.)";
+ValueError for a 2D model. A UserWarning, the command line's note, where the mesh leaves out
+a part of the solid thinner than a cell or puts a sharp edge more than half a cell off.)";
 
 }  // namespace
 

@@ -1,0 +1,37 @@
+// cli/mesh_notes.cpp — the sentences of mesh_notes.hpp.
+#include "cli/mesh_notes.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace fortu {
+
+std::vector<std::string> mesh_notes(const MeshStats& stats, const Grid& grid) {
+    std::vector<std::string> notes;
+    // Sharp edges: the bound the mesh otherwise keeps is half a cell.
+    const FeatureStats& features = stats.features;
+    if (features.crossings_off_mesh > 0 && !(features.farthest_crossing_off <= 0.5)) {
+        const std::string farthest = std::isfinite(features.farthest_crossing_off)
+                                         ? fmt::format("up to {:.3g} cells", features.farthest_crossing_off)
+                                         : "more than 2 cells";
+        notes.push_back(fmt::format("sharp edges are off the mesh by {} at {} points where they cross cell faces ({} such "
+                                    "points are on it): wedges thinner than a cell whose cells could not be redone",
+                                    farthest, features.crossings_off_mesh, features.edge_vertices));
+    }
+    if (stats.unreached_cells > 0) {
+        // A centre on a symmetric domain's middle plane is zero to round-off: shown as 0.
+        const double scale = std::max({grid.x.max - grid.x.min, grid.y.max - grid.y.min, grid.z.max - grid.z.min});
+        auto shown = [&](double v) { return std::fabs(v) < 1e-12 * scale ? 0.0 : v; };
+        notes.push_back(fmt::format("parts of the solid thinner than a cell (or holes in it) are missing from the mesh: in "
+                                    "{} cell{}, the first at ({:.6g}, {:.6g}, {:.6g}), the centre is on the other side of "
+                                    "the surface from all eight corners",
+                                    stats.unreached_cells, stats.unreached_cells == 1 ? "" : "s",
+                                    shown(stats.first_unreached[0]), shown(stats.first_unreached[1]),
+                                    shown(stats.first_unreached[2])));
+    }
+    return notes;
+}
+
+}  // namespace fortu

@@ -181,7 +181,7 @@ TEST_CASE("cells whose centre is on the other side from all their nodes are coun
         CHECK(expected == 120);
         CHECK(stats.unreached_cells == expected);
         for (int a = 0; a < 3; ++a) CHECK(stats.first_unreached[std::size_t(a)] == doctest::Approx(first[std::size_t(a)]).epsilon(1e-12));
-        // Without stats asked for, nothing is counted and the mesh is the same.
+        // Without stats asked for (the cells are not counted), the mesh is the same.
         CHECK(extract_mesh(m.graph, m.root, grid).triangles == mesh.triangles);
     }
 }

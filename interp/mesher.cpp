@@ -144,7 +144,7 @@ struct Worker {
     std::vector<Dual> nudged_dual_lanes;
     std::vector<Dual*> nudged_dual_slots;
     MeshStats stats;
-    uint64_t first_unreached_cell = UINT64_MAX;  ///< its lattice index, for the lowest across workers
+    uint64_t first_unreached_cell = UINT64_MAX;  ///< the lowest lattice index of its unreached cells (MeshStats::first_unreached)
     std::array<bool, 6> cut_faces{};  ///< the domain's faces with a node inside the model, in leaves with triangles
 };
 
@@ -395,11 +395,7 @@ public:
             if (!(in ? centre[k] < 0 : centre[k] > 0)) continue;
             ++w.stats.unreached_cells;
             const uint64_t g[3] = {uint64_t(c0[0] + x), uint64_t(c0[1] + y), uint64_t(c0[2] + z)};
-            const uint64_t id = g[0] + uint64_t(l_.cells[0]) * (g[1] + uint64_t(l_.cells[1]) * g[2]);
-            if (id < w.first_unreached_cell) {
-                w.first_unreached_cell = id;
-                for (int a = 0; a < 3; ++a) w.stats.first_unreached[std::size_t(a)] = centre_of(c, a);
-            }
+            w.first_unreached_cell = std::min(w.first_unreached_cell, g[0] + uint64_t(l_.cells[0]) * (g[1] + uint64_t(l_.cells[1]) * g[2]));
         }
     }
 
@@ -730,8 +726,12 @@ Mesh extract_mesh(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
         total.edge_evaluations += w.stats.edge_evaluations;
         total.crossing_edges += w.stats.crossing_edges;
         total.unreached_cells += w.stats.unreached_cells;
-        if (w.first_unreached_cell < first_unreached_cell)
-            first_unreached_cell = w.first_unreached_cell, total.first_unreached = w.stats.first_unreached;
+        first_unreached_cell = std::min(first_unreached_cell, w.first_unreached_cell);
+    }
+    if (total.unreached_cells > 0) {  // that cell's centre
+        const uint64_t g[3] = {first_unreached_cell % uint64_t(l.cells[0]), first_unreached_cell / uint64_t(l.cells[0]) % uint64_t(l.cells[1]),
+                               first_unreached_cell / (uint64_t(l.cells[0]) * uint64_t(l.cells[1]))};
+        for (int a = 0; a < 3; ++a) total.first_unreached[std::size_t(a)] = l.at(a, int(g[a])) + 0.5 * l.step[a];
     }
     workers.clear();
     std::vector<uint64_t> triangle_cells;

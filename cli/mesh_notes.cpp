@@ -20,16 +20,16 @@ std::vector<std::string> mesh_notes(const MeshStats& stats, const Grid& grid) {
                                     "points are on it): wedges thinner than a cell whose cells could not be redone",
                                     farthest, features.crossings_off_mesh, features.edge_vertices));
     }
-    if (stats.unreached_cells > 0) {
+    if (stats.refinement_left > 0) {
         // A centre on a symmetric domain's middle plane is zero to round-off: shown as 0.
         const double scale = std::max({grid.x.max - grid.x.min, grid.y.max - grid.y.min, grid.z.max - grid.z.min});
         auto shown = [&](double v) { return std::fabs(v) < 1e-12 * scale ? 0.0 : v; };
-        notes.push_back(fmt::format("parts of the solid thinner than a cell (or holes in it) are missing from the mesh: in "
-                                    "{} cell{}, the first at ({:.6g}, {:.6g}, {:.6g}), the centre is on the other side of "
-                                    "the surface from all eight corners",
-                                    stats.unreached_cells, stats.unreached_cells == 1 ? "" : "s",
-                                    shown(stats.first_unreached[0]), shown(stats.first_unreached[1]),
-                                    shown(stats.first_unreached[2])));
+        notes.push_back(fmt::format("parts of the solid thinner than a cell (or holes in it) go on beyond the {} cells "
+                                    "refined for them, and are missing from the mesh in {} more cells, the first at "
+                                    "({:.6g}, {:.6g}, {:.6g}): at a --size whose cells are smaller than the part is thick, "
+                                    "the lattice itself meshes it",
+                                    stats.refined_cells, stats.refinement_left, shown(stats.first_left[0]),
+                                    shown(stats.first_left[1]), shown(stats.first_left[2])));
     }
     return notes;
 }

@@ -6,6 +6,7 @@
 #include "cli/option_table.hpp"
 #include "cli/standard_streams.hpp"
 #include "interp/ir_print.hpp"
+#include "interp/mesh_refine.hpp"
 #include "interp/mesher.hpp"
 #include "runtime/output.hpp"
 #include "runtime/output_error.hpp"
@@ -77,7 +78,9 @@ int run_mesh_output(const Model& model, const Grid& grid, const CliOptions& o, d
     report << fmt::format(
         "model: {}\nmesh: {} triangles, {} vertices, {}x{}x{} nodes, x [{}, {}], y [{}, {}], z [{}, {}]\n"
         "octree: {} boxes tested, {} leaves of 8^3 cells, {} nodes evaluated ({:.2f}% of {}), "
-        "{} edge solves for {} vertices, {} cells with a part thinner than a cell left out\n"
+        "{} edge solves for {} vertices\n"
+        "thin parts: {} cells with a part thinner than a cell, {} cells off the mesh refined with those the parts go on "
+        "into: {} cells {} times finer, {} joining them, {} left out\n"
         "sharp features: {} cells tested, {} vertices on edges, {} at corners, {} mesh edges along them, "
         "{} edge crossings off the mesh{}\n"
         "time: compile {:.3f} s, mesh {:.3f} s, write {:.3f} s\n"
@@ -86,7 +89,8 @@ int run_mesh_output(const Model& model, const Grid& grid, const CliOptions& o, d
         grid.slices(),
         grid.x.min, grid.x.max, grid.y.min, grid.y.max, grid.z.min, grid.z.max, stats.boxes, stats.leaves,
         stats.node_evaluations, 100.0 * double(stats.node_evaluations) / double(grid.points()),
-        format_operations(double(grid.points())), stats.edge_evaluations, stats.crossing_edges, stats.unreached_cells,
+        format_operations(double(grid.points())), stats.edge_evaluations, stats.crossing_edges, stats.thin_cells,
+        stats.refine_seeds, stats.refined_cells, kRefine, stats.transition_cells, stats.refinement_left,
         stats.features.cells_tested,
         stats.features.edge_vertices, stats.features.corner_vertices, stats.features.chain_edges,
         stats.features.crossings_off_mesh, farthest_off(stats.features), compile_seconds,

@@ -473,6 +473,18 @@ public:
     /// cells whose neighbours across that face or grid edge have none.
     void set_patch_test(std::function<bool(uint64_t)> has_patch) { has_patch_ = std::move(has_patch); }
 
+    /// The cells refined for thin parts and those joining them (sorted): their triangles are
+    /// not the lattice's cells' marching tetrahedra, so they are left as they are, and no
+    /// crossing goes on their faces.
+    void set_frozen(const std::vector<uint64_t>& cells, std::vector<char> triangles) {
+        frozen_ = cells;
+        frozen_triangles_ = std::move(triangles);
+    }
+    bool frozen(uint64_t id) const { return std::binary_search(frozen_.begin(), frozen_.end(), id); }
+    bool any_frozen(const std::vector<uint64_t>& cells) const {
+        return std::any_of(cells.begin(), cells.end(), [&](uint64_t id) { return frozen(id); });
+    }
+
     /// The operations that cut the model by its caps' planes (sharpen_features).
     void set_caps(const std::vector<ir::NodeId>& cap_nodes) {
         const auto& ops = field_.operations();
@@ -610,7 +622,7 @@ public:
     /// Phase 1, per cell with triangles: a cell whose normals disagree seeds the traces of the
     /// edge curves through it, and may hold a corner.
     void seed(uint64_t id, const std::vector<uint32_t>& patch, FeatureStats& stats) {
-        if (!normals_disagree(patch)) return;
+        if (frozen(id) || !normals_disagree(patch)) return;
         ++stats.cells_tested;
         const Cell cell = cell_box(id);
         const std::vector<int> candidates = vanishing_operations(cell);
@@ -725,7 +737,7 @@ public:
                         pending.erase(g);
                     }
                     bool disc = false;
-                    if (build_wedge(wedges_[index], joined, triangles, disc)) {
+                    if (!any_frozen(cells) && build_wedge(wedges_[index], joined, triangles, disc)) {
                         results_[cells.front()] = {std::move(joined), std::move(triangles)};
                         continue;
                     }
@@ -749,7 +761,7 @@ public:
                         else joined.insert(joined.end(), patch->begin(), patch->end());
                     }
                     for (uint64_t g : cells) results_.erase(g), pending.erase(g);  // built once for all
-                    if (all && build_cell(cells.front(), &joined, triangles, &cells)) {
+                    if (all && !any_frozen(cells) && build_cell(cells.front(), &joined, triangles, &cells)) {
                         // No triangles: nothing left to join (its crossings died with a
                         // neighbour), so the cells keep marching tetrahedra's patches.
                         if (!triangles.empty()) results_[cells.front()] = {std::move(joined), std::move(triangles)};
@@ -763,17 +775,18 @@ public:
                     continue;
                 }
                 const std::optional<std::vector<uint32_t>> patch = patch_of(id);
-                if (build_cell(id, patch ? &*patch : nullptr, triangles)) {
+                if (!frozen(id) && build_cell(id, patch ? &*patch : nullptr, triangles)) {
                     if (patch && !triangles.empty()) results_[id] = {*patch, std::move(triangles)};
                     else results_.erase(id);
                     continue;
                 }
                 results_.erase(id);
-                if (apex_.erase(id)) {  // without its corner, the edges may still pass
+                if (frozen(id)) apex_.erase(id);
+                else if (apex_.erase(id)) {  // without its corner, the edges may still pass
                     pending.insert(id);
                     continue;
                 }
-                if (add_edge_apex(id)) {  // a fan from a point of the edge keeps the crossings
+                if (!frozen(id) && add_edge_apex(id)) {  // a fan from a point of the edge keeps the crossings
                     pending.insert(id);
                     continue;
                 }
@@ -790,7 +803,9 @@ public:
     /// (lift_chamfers) and unused vertices dropped; with `stats`, the feature vertices and
     /// chain edges counted on it and the crossings left off measured (measure_crossings_left;
     /// `patch_of` as for build()).
-    void finish(const std::function<std::optional<std::vector<uint32_t>>(uint64_t)>& patch_of, FeatureStats* stats) {
+    /// With a `query` that finds cells to refine (RefineQuery), the mesh is left as it was (false).
+    bool finish(const std::function<std::optional<std::vector<uint32_t>>(uint64_t)>& patch_of, FeatureStats* stats,
+                RefineQuery* query) {
         std::vector<char> removed(mesh_.triangles.size(), 0);
         std::vector<Tri> triangles;
         std::vector<uint32_t> kept;  // the marching-tetrahedra triangles kept, as they were numbered
@@ -799,7 +814,10 @@ public:
         for (uint32_t t = 0; t < mesh_.triangles.size(); ++t)
             if (!removed[t]) triangles.push_back(mesh_.triangles[t]), kept.push_back(t);
         for (const auto& [id, result] : results_) triangles.insert(triangles.end(), result.second.begin(), result.second.end());
-        const std::vector<char> gone = lift_chamfers(triangles);
+        std::vector<char> fixed(triangles.size(), 0);  // a frozen cell's: no chamfer takes them
+        if (!frozen_triangles_.empty())
+            for (std::size_t t = 0; t < kept.size(); ++t) fixed[t] = frozen_triangles_[kept[t]];
+        const std::vector<char> gone = lift_chamfers(triangles, fixed);
         std::vector<Tri> remaining;
         remaining.reserve(triangles.size());
         for (std::size_t t = 0; t < kept.size(); ++t)
@@ -809,6 +827,11 @@ public:
         for (std::size_t t = kept.size(); t < triangles.size(); ++t)
             if (!gone[t]) remaining.push_back(triangles[t]);
         triangles = std::move(remaining);
+        if (query) {
+            FeatureStats measured;
+            measure_crossings_left(triangles, first_redone, removed, patch_of, measured, query);
+            if (!query->refine.empty()) return false;
+        }
         if (stats) {
             std::vector<char> used(positions_.size(), 0);
             for (const Tri& t : triangles)
@@ -837,6 +860,7 @@ public:
             for (uint32_t& v : t) v = renumber[v];
         out.triangles = std::move(triangles);
         mesh_ = std::move(out);
+        return true;
     }
 
 private:
@@ -896,7 +920,7 @@ private:
     /// between (loft_open), if they face the way the surface does, stay near it and cross
     /// neither each other nor the triangles around. The strips go on the end of `triangles`;
     /// returns which of them are gone.
-    std::vector<char> lift_chamfers(std::vector<Tri>& triangles) {
+    std::vector<char> lift_chamfers(std::vector<Tri>& triangles, const std::vector<char>& fixed) {
         std::vector<char> gone(triangles.size(), 0);
         const double h = lattice_h();
         std::vector<char> used(positions_.size(), 0);
@@ -975,6 +999,7 @@ private:
             std::vector<Tri> strips;
             std::vector<uint32_t> region;
             if (!lift_chamfer(run, k, h, triangles, gone, first, incident, kept, region, strips, leak)) return false;
+            if (std::any_of(region.begin(), region.end(), [&](uint32_t t) { return t < fixed.size() && fixed[t]; })) return false;
             // Nor may the strips cross the triangles around them (earlier strips included),
             // each looked for in the buckets its box meets.
             std::sort(region.begin(), region.end());
@@ -1292,7 +1317,7 @@ private:
     /// cell's original ones).
     void measure_crossings_left(const std::vector<Tri>& triangles, std::size_t first_redone, const std::vector<char>& removed,
                                 const std::function<std::optional<std::vector<uint32_t>>(uint64_t)>& patch_of,
-                                FeatureStats& stats) const {
+                                FeatureStats& stats, RefineQuery* query = nullptr) const {
         const double h = lattice_h();
         std::vector<char> used(positions_.size(), 0);
         for (const Tri& t : triangles)
@@ -1303,7 +1328,7 @@ private:
         std::vector<Vec> left;
         for (const Crossing& c : crossings_)
             if (!used[c.vertex]) left.push_back(positions_[c.vertex]);
-        if (left.empty()) return;
+        if (left.empty() && (!query || query->thin_cells.empty())) return;
         std::unordered_map<uint64_t, std::vector<uint32_t>> redone;  // a cell → the redone triangles meeting it
         for (std::size_t t = first_redone; t < triangles.size(); ++t) {
             const Vec &p = positions_[triangles[t][0]], &q = positions_[triangles[t][1]], &r = positions_[triangles[t][2]];
@@ -1347,6 +1372,59 @@ private:
             if (distance <= 1e-9 * h) continue;
             ++stats.crossings_off_mesh;
             stats.farthest_crossing_off = std::max(stats.farthest_crossing_off, distance / h);
+            if (query && !(distance <= 0.5 * h))
+                for (uint64_t id : cells_around(q)) query->refine.push_back(id);
+        }
+        // Which side of the finished mesh p is on, by the triangles nearest it within a cell
+        // (their normals summed where they meet at the nearest point); on it counts as either.
+        auto inside_mesh = [&](const Vec& p, bool& inside, double& distance) {
+            const std::array<long, 3> c{cell_of(p[0], 0), cell_of(p[1], 1), cell_of(p[2], 2)};
+            double best = std::numeric_limits<double>::infinity();
+            Vec closest{};
+            std::vector<std::pair<double, Tri>> candidates;
+            for (long z = std::max(c[2] - 1, 0L); z <= std::min(c[2] + 1, long(cells_[2]) - 1); ++z)
+                for (long y = std::max(c[1] - 1, 0L); y <= std::min(c[1] + 1, long(cells_[1]) - 1); ++y)
+                    for (long x = std::max(c[0] - 1, 0L); x <= std::min(c[0] + 1, long(cells_[0]) - 1); ++x)
+                        for (const Tri& t : in_cell(cell_id(uint64_t(x), uint64_t(y), uint64_t(z)))) {
+                            const Vec q = closest_point_on_triangle(p, positions_[t[0]], positions_[t[1]], positions_[t[2]]);
+                            const double d = norm(sub(p, q));
+                            candidates.push_back({d, t});
+                            if (d < best) best = d, closest = q;
+                        }
+            distance = best;
+            if (candidates.empty()) return false;
+            Vec normal{0, 0, 0};
+            for (const auto& [d, t] : candidates) {
+                if (d > best + 1e-9 * h) continue;
+                const Vec n = cross(sub(positions_[t[1]], positions_[t[0]]), sub(positions_[t[2]], positions_[t[0]]));
+                const double length = norm(n);
+                if (length > 0)
+                    for (int a = 0; a < 3; ++a) normal[a] += n[a] / length;
+            }
+            inside = dot(sub(p, closest), normal) < 0;
+            return true;
+        };
+        if (query) {
+            for (std::size_t i = 0; i < query->thin_cells.size(); ++i) {
+                const uint64_t id = query->thin_cells[i];
+                const Cell cell = cell_box(id);
+                Vec centre;
+                for (int a = 0; a < 3; ++a) centre[a] = (cell.lo[a] + cell.hi[a]) / 2;
+                // Where the pass put the part's edges back, the mesh has its centre on the side
+                // the field says; elsewhere marching tetrahedra's surface cuts it off.
+                bool inside = false;
+                double distance = 0;
+                if (!inside_mesh(centre, inside, distance) || (inside != bool(query->thin_inside[i]) && distance > kThinOffMesh * h))
+                    query->refine.push_back(id);
+            }
+            std::sort(query->refine.begin(), query->refine.end());
+            query->refine.erase(std::unique(query->refine.begin(), query->refine.end()), query->refine.end());
+            for (const auto& [id, apex] : apex_)
+                if (used[apex] && apex_equations_.at(id).size() >= 3) query->keep.push_back(id);
+            for (const auto& [id, cells] : groups_) query->keep.insert(query->keep.end(), cells.begin(), cells.end());
+            query->keep.insert(query->keep.end(), banded_.begin(), banded_.end());
+            std::sort(query->keep.begin(), query->keep.end());
+            query->keep.erase(std::unique(query->keep.begin(), query->keep.end()), query->keep.end());
         }
     }
 
@@ -2706,6 +2784,7 @@ private:
             for (uint64_t id : tube)
                 if (const auto [own, other] = crease_holdings(id, on_crease); other && !own) band.left_out.push_back(id);
             for (uint64_t id : band.left_out) tube.erase(id);
+            if (std::any_of(tube.begin(), tube.end(), [&](uint64_t id) { return frozen(id); })) return false;
             std::vector<uint64_t> reached = reach_cells(band.seeds, [&](uint64_t id) { return tube.count(id) > 0; });
             if (reached.empty()) continue;
             band.tube.assign(tube.begin(), tube.end());
@@ -2722,6 +2801,15 @@ private:
     /// cells) reached from its seeds across faces, so the joined patches are one piece of
     /// surface; false when none is left to try.
     bool group_wedge(std::size_t w) {
+        auto frozen_in = [&](const std::array<std::pair<long, long>, 3>& range) {
+            for (uint64_t id : frozen_) {
+                const auto c = coords(id);
+                bool in = true;
+                for (int a = 0; a < 3; ++a) in = in && long(c[a]) >= range[a].first && long(c[a]) <= range[a].second;
+                if (in) return true;
+            }
+            return false;
+        };
         Wedge& wedge = wedges_[w];
         if (!wedge.cycle.empty()) return group_band(w);
         wedge.cells.clear();
@@ -2734,6 +2822,7 @@ private:
                 wedge.block.hi[a] = min_[a] + double(range[a].second + 1) * step_[a];
             }
             wedge.block.h = lattice_h();
+            if (frozen_in(range)) return false;  // a larger block would hold it too
             std::vector<uint64_t> reached = reach_cells(wedge.seeds, [&](uint64_t id) {
                 const auto c = coords(id);
                 for (int a = 0; a < 3; ++a)
@@ -2754,7 +2843,7 @@ private:
     std::vector<uint64_t> reach_cells(const std::vector<uint64_t>& seeds, const std::function<bool(uint64_t)>& in_block) const {
         auto eligible = [&](uint64_t id) {
             return in_block(id) && (!has_patch_ || has_patch_(id)) && !apex_.count(id) && !groups_.count(id) &&
-                   !wedge_of_.count(id);
+                   !wedge_of_.count(id) && !frozen(id);
         };
         std::set<uint64_t> reached;
         std::vector<uint64_t> stack;
@@ -3670,6 +3759,10 @@ private:
     static constexpr std::size_t kMaxChamferRun = 4096;        ///< crossings
     static constexpr std::size_t kMaxChamferTriangles = 32;  ///< per crossing of the run
     static constexpr int kMaxChamferJoins = 16;  ///< runs joined through the crossings between them
+    /// A thin cell's centre on the wrong side of the finished mesh by more than this many
+    /// cells is off it (RefineQuery); a centre a hair across a face the pass put back is not
+    /// a part left out (two of new_euclid's at 65 nodes, refined for nothing without it).
+    static constexpr double kThinOffMesh = 0.05;
 
     mutable FeatureField field_;   ///< evaluation scratch: const checks evaluate too
     Mesh& mesh_;
@@ -3683,6 +3776,8 @@ private:
     std::set<uint64_t> end_cells_, tried_corner_;
     std::vector<char> is_cap_;  ///< by operation: one that cuts the model by a cap's plane (set_caps)
     std::function<bool(uint64_t)> has_patch_;
+    std::vector<uint64_t> frozen_;
+    std::vector<char> frozen_triangles_;  ///< per triangle of the mesh given: in a frozen cell
     std::set<uint64_t> edge_apex_tried_;
     /// Cells redone together, each mapped to all of them, their shared faces inside: around a
     /// corner on the lattice (the solid on both sides of a grid plane through it, fanned from
@@ -3709,8 +3804,9 @@ private:
 
 }  // namespace
 
-void sharpen_features(const ir::Graph& graph, ir::NodeId root, const Grid& grid, Mesh& mesh,
-                      const std::vector<uint64_t>& triangle_cells, const DomainCaps& caps, FeatureStats* stats) {
+bool sharpen_features(const ir::Graph& graph, ir::NodeId root, const Grid& grid, Mesh& mesh,
+                      const std::vector<uint64_t>& triangle_cells, const DomainCaps& caps,
+                      const std::vector<uint64_t>& frozen, FeatureStats* stats, RefineQuery* query) {
     FeatureStats local;
     // A model with no edges of its own keeps marching tetrahedra's mesh, caps and all: where
     // the domain cuts a smooth field (the tanglecube on [-1, 1]³), its caps' rims would be its
@@ -3721,7 +3817,9 @@ void sharpen_features(const ir::Graph& graph, ir::NodeId root, const Grid& grid,
             return FeatureField::operation(graph, id, a, b);
         })) {
         if (stats) *stats = local;
-        return;
+        // No edges to put back: every thin cell is refined.
+        if (query) query->refine = query->thin_cells;
+        return !query || query->refine.empty();
     }
     // The solid the mesh closes is the model's cut by its caps' planes: those planes are
     // operands too (MIN), so an edge that runs into a face ends in a corner on its cap, and the
@@ -3743,6 +3841,12 @@ void sharpen_features(const ir::Graph& graph, ir::NodeId root, const Grid& grid,
         }
     ChainBuilder builder(cut, cut_root, grid, mesh);
     builder.set_caps(cap_nodes);
+    if (!frozen.empty()) {
+        std::vector<char> frozen_triangles(mesh.triangles.size(), 0);
+        for (std::size_t t = 0; t < frozen_triangles.size(); ++t)
+            frozen_triangles[t] = std::binary_search(frozen.begin(), frozen.end(), triangle_cells[t]);
+        builder.set_frozen(frozen, std::move(frozen_triangles));
+    }
     if (builder.has_operations() && mesh.normals.size() == mesh.vertices.size()) {
         // Each cell's patch: the triangles order[begin, end) (a map of vectors would cost
         // more than the mesh on large models).
@@ -3768,9 +3872,13 @@ void sharpen_features(const ir::Graph& graph, ir::NodeId root, const Grid& grid,
             return patch_at(std::size_t(it - starts.begin()));
         };
         builder.build(patch_of);
-        builder.finish(patch_of, stats ? &local : nullptr);
+        if (!builder.finish(patch_of, stats ? &local : nullptr, query)) return false;
+    } else if (query) {
+        query->refine = query->thin_cells;
+        if (!query->refine.empty()) return false;
     }
     if (stats) *stats = local;
+    return true;
 }
 
 }  // namespace fortu

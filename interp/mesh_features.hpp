@@ -124,11 +124,35 @@ inline bool zero_inside(const double* probes) {
 
 /// Rewrites `mesh` (made on `grid`'s lattice; `triangle_cells[t]` the cell of triangle t,
 /// x + cells_x·(y + cells_y·z)) with vertices on the sharp features of `root`'s R-operations
-/// and of the `caps` that close it where the domain cuts it.
+/// and of the `caps` that close it where the domain cuts it. The `frozen` cells (sorted: those
+/// the mesher refined for thin parts, and the cells joining them, mesh_refine.hpp) keep their
+/// triangles, and their faces take no crossing: the features there stay as the finer
+/// tetrahedra cut them.
+/// What the mesher asks of the pass before the pass changes the mesh (mesh_refine.hpp).
+struct RefineQuery {
+    /// Cells whose centre is inside a part thinner than a cell (or a hole) that marching
+    /// tetrahedra left out, sorted. Where the pass put the part's edges back, the finished mesh
+    /// has their centre on the side the field says; elsewhere it does not.
+    std::vector<uint64_t> thin_cells;
+    std::vector<char> thin_inside;  ///< per thin cell: its centre is inside the solid
+    /// Out: the cells to refine before the pass runs again, sorted: those thin cells whose
+    /// centre the finished mesh leaves on the wrong side, and the cells round the
+    /// traced crossings more than half a cell off it (a wedge thinner than a cell whose cells
+    /// could not be redone). Empty: the mesh was changed.
+    std::vector<uint64_t> refine;
+    /// Out, with `refine`: the cells of the corners and the concave creases' bands the pass put
+    /// back, sorted; refining a cell beside them would freeze theirs (mesh_refine.hpp) and
+    /// lose them.
+    std::vector<uint64_t> keep;
+};
+
 /// Unused vertices are dropped; the order of the result depends on the input only. The
-/// crossings left off the mesh are measured only for `stats` (the golden runner and `fortu
-/// bench` do without).
-void sharpen_features(const ir::Graph& graph, ir::NodeId root, const Grid& grid, Mesh& mesh,
-                      const std::vector<uint64_t>& triangle_cells, const DomainCaps& caps, FeatureStats* stats = nullptr);
+/// crossings left off the mesh are measured for `stats` (the golden runner and `fortu bench`
+/// do without) and for a `query`: where it finds cells to refine, the mesh is left as it was
+/// (false), for the mesher to refine them and call again.
+bool sharpen_features(const ir::Graph& graph, ir::NodeId root, const Grid& grid, Mesh& mesh,
+                      const std::vector<uint64_t>& triangle_cells, const DomainCaps& caps,
+                      const std::vector<uint64_t>& frozen = {}, FeatureStats* stats = nullptr,
+                      RefineQuery* query = nullptr);
 
 }  // namespace fortu

@@ -5,6 +5,7 @@
 #include "interp/box_simplify.hpp"
 #include "interp/interval.hpp"
 #include "interp/mesh_features.hpp"
+#include "interp/mesh_refine.hpp"
 #include "interp/lane_kernel.hpp"
 #include "interp/parallel.hpp"
 #include "interp/tape.hpp"
@@ -14,10 +15,12 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <memory>
 #include <stdexcept>
 #include <tuple>
 #include <type_traits>
+#include <unordered_map>
 #include <vector>
 
 namespace fortu {
@@ -36,6 +39,15 @@ constexpr double kEdgeMargin = 1e-3;
 constexpr double kEdgeTolerance = 1e-7;
 constexpr int kMaxEdgeSteps = 64;
 constexpr int kEdgeLanes = 64;                ///< edges solved together on one tape run
+/// A thin cell's centre is this many cells beyond the surface or more, to first order.
+constexpr double kThinDepth = 0.02;
+/// At most this many cells are refined (mesh_refine.hpp): (kRefine + 1)³ = 125 points each,
+/// about a hundred megabytes of values at most; a part thinner than a cell that goes on
+/// beyond is left out there, and said (MeshStats::refinement_left).
+constexpr std::size_t kMaxRefinedCells = 1 << 12;
+/// Times the sharp-feature pass may send cells back to be refined where it left an edge more
+/// than half a cell off (each time it runs again: Tor1 at 65 nodes, 1.3 s a pass).
+constexpr int kRefinePasses = 1;
 /// Where the formula is NaN only on a plane, a line or a point (0/0: ARCTAN(Y/X) on the Z
 /// axis, ABS(X)/X on X = 0), a node or an edge point there takes the field's value this
 /// fraction of a cell away, along kNudge: a node on such a plane would otherwise count as
@@ -62,43 +74,60 @@ struct CaseTriangles {
 
 Vec corner_position(int c) { return {double(c & 1), double((c >> 1) & 1), double((c >> 2) & 1)}; }
 
-/// The table, per tetrahedron and per mask of its inside corners (bit k: tet corner k).
+/// A triangle of a tetrahedron: its vertices' edges, each (inside corner, outside corner).
+using TetTriangle = std::array<std::array<int, 2>, 3>;
+
+/// The triangles marching tetrahedra put in a tetrahedron with corners `corner` (in any
+/// order) of which `inside` are inside (bit k: corner k), oriented outward; how many (0-2).
+/// One inside or outside corner: a triangle; two: the quad (a,c) (b,c) (b,d) (a,d), split
+/// along (a,c)–(b,d). The normal points away from the inside corners: which side they are on
+/// does not change as vertices move along their edges, so the edges' midpoints decide.
+int tetrahedron_triangles(const std::array<Vec, 4>& corner, int inside, TetTriangle tri[2]) {
+    int in[4], out[4], ins = 0, outs = 0;
+    for (int k = 0; k < 4; ++k) ((inside >> k) & 1 ? in[ins++] : out[outs++]) = k;
+    if (ins == 0 || outs == 0) return 0;
+    int count = 1;
+    if (ins == 1) tri[0] = {{{in[0], out[0]}, {in[0], out[1]}, {in[0], out[2]}}};
+    else if (ins == 3) tri[0] = {{{in[0], out[0]}, {in[1], out[0]}, {in[2], out[0]}}};
+    else {
+        count = 2;
+        tri[0] = {{{in[0], out[0]}, {in[1], out[0]}, {in[1], out[1]}}};
+        tri[1] = {{{in[0], out[0]}, {in[1], out[1]}, {in[0], out[1]}}};
+    }
+    for (int k = 0; k < count; ++k) {
+        Vec m[3];
+        for (int v = 0; v < 3; ++v)
+            for (int a = 0; a < 3; ++a) {
+                const auto& e = tri[k][std::size_t(v)];
+                m[v][std::size_t(a)] = (corner[std::size_t(e[0])][std::size_t(a)] + corner[std::size_t(e[1])][std::size_t(a)]) / 2;
+            }
+        const Vec u{m[1][0] - m[0][0], m[1][1] - m[0][1], m[1][2] - m[0][2]};
+        const Vec w{m[2][0] - m[0][0], m[2][1] - m[0][1], m[2][2] - m[0][2]};
+        const Vec n{u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+        const Vec& p = corner[std::size_t(in[0])];
+        const double side = n[0] * (m[0][0] - p[0]) + n[1] * (m[0][1] - p[1]) + n[2] * (m[0][2] - p[2]);
+        if (side < 0) std::swap(tri[k][1], tri[k][2]);
+    }
+    return count;
+}
+
+/// The table, per tetrahedron of the Kuhn split and per mask of its inside corners (bit k:
+/// tet corner k), in cube corners.
 struct CaseTable {
     CaseTriangles cases[6][16];
     CaseTable() {
-        for (int t = 0; t < 6; ++t)
+        for (int t = 0; t < 6; ++t) {
+            std::array<Vec, 4> corner;
+            for (int k = 0; k < 4; ++k) corner[std::size_t(k)] = corner_position(kTetCorners[t][k]);
             for (int mask = 1; mask < 15; ++mask) {
-                std::vector<int> in, out;
-                for (int k = 0; k < 4; ++k) ((mask >> k) & 1 ? in : out).push_back(kTetCorners[t][k]);
+                TetTriangle tri[2];
                 CaseTriangles& c = cases[t][mask];
-                auto e = [](int a, int b) { return CaseEdge{uint8_t(a), uint8_t(b)}; };
-                if (in.size() == 1) {
-                    c.count = 1;
-                    c.tri[0][0] = e(in[0], out[0]), c.tri[0][1] = e(in[0], out[1]), c.tri[0][2] = e(in[0], out[2]);
-                } else if (in.size() == 3) {
-                    c.count = 1;
-                    c.tri[0][0] = e(in[0], out[0]), c.tri[0][1] = e(in[1], out[0]), c.tri[0][2] = e(in[2], out[0]);
-                } else {
-                    c.count = 2;  // the quad (a,c) (b,c) (b,d) (a,d), split along (a,c)–(b,d)
-                    c.tri[0][0] = e(in[0], out[0]), c.tri[0][1] = e(in[1], out[0]), c.tri[0][2] = e(in[1], out[1]);
-                    c.tri[1][0] = e(in[0], out[0]), c.tri[1][1] = e(in[1], out[1]), c.tri[1][2] = e(in[0], out[1]);
-                }
-                // Orient: the normal points away from the inside corners. Which side they are
-                // on does not change as vertices move along their edges, so midpoints decide.
-                for (int k = 0; k < c.count; ++k) {
-                    Vec q[3];
-                    for (int v = 0; v < 3; ++v) {
-                        const Vec a = corner_position(c.tri[k][v].inside), b = corner_position(c.tri[k][v].outside);
-                        for (int d = 0; d < 3; ++d) q[v][d] = (a[d] + b[d]) / 2;
-                    }
-                    const Vec u{q[1][0] - q[0][0], q[1][1] - q[0][1], q[1][2] - q[0][2]};
-                    const Vec w{q[2][0] - q[0][0], q[2][1] - q[0][1], q[2][2] - q[0][2]};
-                    const Vec n{u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
-                    const Vec p = corner_position(in[0]);
-                    const double side = n[0] * (q[0][0] - p[0]) + n[1] * (q[0][1] - p[1]) + n[2] * (q[0][2] - p[2]);
-                    if (side < 0) std::swap(c.tri[k][1], c.tri[k][2]);
-                }
+                c.count = tetrahedron_triangles(corner, mask, tri);
+                for (int k = 0; k < c.count; ++k)
+                    for (int v = 0; v < 3; ++v)
+                        c.tri[k][v] = CaseEdge{uint8_t(kTetCorners[t][tri[k][std::size_t(v)][0]]), uint8_t(kTetCorners[t][tri[k][std::size_t(v)][1]])};
             }
+        }
     }
 };
 
@@ -144,7 +173,9 @@ struct Worker {
     std::vector<Dual> nudged_dual_lanes;
     std::vector<Dual*> nudged_dual_slots;
     MeshStats stats;
-    uint64_t first_unreached_cell = UINT64_MAX;  ///< the lowest lattice index of its unreached cells (MeshStats::first_unreached)
+    /// Cells with a part thinner than a cell (find_thin_cells), by lattice index, and whether
+    /// their centre is inside the solid.
+    std::vector<std::pair<uint64_t, bool>> thin_cells;
     std::array<bool, 6> cut_faces{};  ///< the domain's faces with a node inside the model, in leaves with triangles
 };
 
@@ -160,8 +191,8 @@ class Mesher {
 public:
     /// `whole`: the model's tape in max-live slots, for points whose field is NaN or zero
     /// (read_beside).
-    /// `count_unreached`: count the cells a part thinner than a cell passes (MeshStats).
-    Mesher(const Grid& grid, const Tape& whole, bool count_unreached) : whole_(whole), count_unreached_(count_unreached) {
+    /// `ssa`: the model's pruning tape, which leaves shorten for their boxes.
+    Mesher(const Grid& grid, const Tape& ssa, const Tape& whole) : ssa_(ssa), whole_(whole) {
         const Axis* axes[3] = {&grid.x, &grid.y, &grid.z};
         for (int a = 0; a < 3; ++a) {
             l_.min[a] = axes[a]->min;
@@ -281,8 +312,11 @@ public:
                     inside_count += inside[i];
                 }
         ++w.stats.leaves;
-        if (count_unreached_ && !all_inside) count_unreached_cells(tape, c0, nc, nn, values, inside, w);
-        if (inside_count == 0) return;
+        // After the edges have read the values as evaluated: the centres reuse those lanes.
+        if (inside_count == 0) {
+            if (!all_inside) find_thin_cells(tape, c0, nc, nn, values, inside, w);
+            return;
+        }
         for (std::size_t f = 0; f < 6; ++f) w.cut_faces[f] = w.cut_faces[f] || cut[f];  // caps here, for the feature pass
 
         LeafMesh m;
@@ -313,6 +347,7 @@ public:
                         pending.push_back({p, {q[0] - p[0], q[1] - p[1], q[2] - p[2]}, values[in], values[out],
                                            (evaluated && evaluated[in] == 0) || values[out] == 0});
                     }
+        if (!all_inside) find_thin_cells(tape, c0, nc, nn, values, inside, w);
         m.positions.resize(pending.size());
         m.normals.resize(pending.size());
         solve_edges(tape, pending, m, all_inside, w);
@@ -341,13 +376,13 @@ public:
         w.leaves.push_back(std::move(m));
     }
 
-    /// Counts the leaf's cells whose centre is on the other side from all eight of their nodes
-    /// (MeshStats::unreached_cells). Only cells with a node as near zero as the largest step
+    /// Finds the leaf's cells whose centre is on the other side from all eight of their nodes
+    /// (MeshStats::thin_cells), for refinement. Only cells with a node as near zero as the largest step
     /// between neighbouring nodes of the leaf are tried (a part thinner than a cell lies within
     /// a cell of their nodes, so their values are within about that step of zero): their centres
     /// in one batch of lanes on the leaf's tape. Trying every cell cost bear.vm 25% more
     /// instructions at 129 nodes.
-    void count_unreached_cells(const Tape& tape, const int* c0, const int* nc, const int* nn, const double* values,
+    void find_thin_cells(const Tape& tape, const int* c0, const int* nc, const int* nn, const double* values,
                                const bool* inside, Worker& w) const {
         auto node = [&](int x, int y, int z) { return (z * nn[1] + y) * nn[0] + x; };
         const int nodes = nn[0] * nn[1] * nn[2];
@@ -372,7 +407,9 @@ public:
             for (int y = 0; y < nc[1]; ++y)
                 for (int x = 0; x < nc[0]; ++x) {
                     const uint8_t f = flags[node(x, y, z)];  // of the cell whose lowest corner this is
-                    if (!(f & 4) || ((f & 3) != 0 && (f & 3) != 3)) continue;  // no node near zero, or the signs differ
+                    // No node near zero, or the main diagonal's ends differ: marching tetrahedra
+                    // put the surface's crossing of it where the field is zero.
+                    if (!(f & 4) || inside[node(x, y, z)] != inside[node(x + 1, y + 1, z + 1)]) continue;
                     const int g[3] = {c0[0] + x, c0[1] + y, c0[2] + z};
                     bool border = false;
                     for (int a = 0; a < 3; ++a) border |= g[a] == 0 || g[a] + 1 == l_.cells[a];
@@ -388,14 +425,30 @@ public:
         for (auto [slot, value] : tape.constants) std::fill_n(w.slots[slot], count, value);
         run_lanes<double, 0>(tape.code.data(), tape.code.size(), w.slots.data(), count);
         const double* centre = w.slots[tape.root_slot];
+        int found = 0;  // those on the other side, moved to the front of `tried`
         for (int k = 0; k < count; ++k) {
             const int c = tried[std::size_t(k)];
+            const bool in = inside[node(c % kLeafCells, c / kLeafCells % kLeafCells, c / (kLeafCells * kLeafCells))];  // as the diagonal's other end
+            if (in ? centre[k] < 0 : centre[k] > 0) tried[std::size_t(found++)] = c;
+        }
+        if (found == 0) return;
+        // Only a centre at least kThinDepth of a cell beyond the surface (|f| / |∇f|, in dual
+        // numbers): a smooth surface's chord of the diagonal (a ball of radius 7 cells cuts
+        // caps 0.01 to 0.02 cells deep) is marching tetrahedra's usual error, not a part left out.
+        bind_slots(w.dual_lanes, w.dual_slots, tape, found);
+        for (auto [slot, axis] : tape.arguments)
+            for (int k = 0; k < found; ++k) w.dual_slots[slot][k] = Dual::variable(centre_of(tried[std::size_t(k)], axis), axis);
+        for (auto [slot, value] : tape.constants) std::fill_n(w.dual_slots[slot], found, Dual(value));
+        run_lanes<Dual, 0>(tape.code.data(), tape.code.size(), w.dual_slots.data(), found);
+        const double h = std::max({l_.step[0], l_.step[1], l_.step[2]});
+        for (int k = 0; k < found; ++k) {
+            const Dual& f = w.dual_slots[tape.root_slot][k];
+            const double slope = std::hypot(f.d[0], f.d[1], f.d[2]);
+            if (std::fabs(f.v) < kThinDepth * h * slope) continue;  // NaN or infinite slope: deep enough
+            const int c = tried[std::size_t(k)];
             const int x = c % kLeafCells, y = c / kLeafCells % kLeafCells, z = c / (kLeafCells * kLeafCells);
-            const bool in = inside[node(x, y, z)];  // all eight agree
-            if (!(in ? centre[k] < 0 : centre[k] > 0)) continue;
-            ++w.stats.unreached_cells;
             const uint64_t g[3] = {uint64_t(c0[0] + x), uint64_t(c0[1] + y), uint64_t(c0[2] + z)};
-            w.first_unreached_cell = std::min(w.first_unreached_cell, g[0] + uint64_t(l_.cells[0]) * (g[1] + uint64_t(l_.cells[1]) * g[2]));
+            w.thin_cells.push_back({g[0] + uint64_t(l_.cells[0]) * (g[1] + uint64_t(l_.cells[1]) * g[2]), f.v > 0});
         }
     }
 
@@ -558,10 +611,384 @@ public:
         return std::size_t(n);
     }
 
+    // ---- Refinement where a part is thinner than a cell (mesh_refine.hpp) ---------------------
+
+    /// The centre of a cell by its lattice index, x + cells_x·(y + cells_y·z).
+    std::array<double, 3> cell_centre(uint64_t cell) const {
+        const uint64_t g[3] = {cell % uint64_t(l_.cells[0]), cell / uint64_t(l_.cells[0]) % uint64_t(l_.cells[1]),
+                               cell / (uint64_t(l_.cells[0]) * uint64_t(l_.cells[1]))};
+        std::array<double, 3> centre;
+        for (int a = 0; a < 3; ++a) centre[std::size_t(a)] = l_.at(a, int(g[a])) + 0.5 * l_.step[a];
+        return centre;
+    }
+
+    /// A fine point's position: bit for bit the lattice's node where it is one.
+    Vec fine_position(const FinePoint& p) const {
+        Vec out;
+        for (int a = 0; a < 3; ++a) {
+            const int i = int(p[std::size_t(a)] / kRefine), j = int(p[std::size_t(a)] % kRefine);
+            out[std::size_t(a)] = j == 0 ? l_.at(a, i) : l_.at(a, i) + double(j) * (l_.step[a] / kRefine);
+        }
+        return out;
+    }
+    /// On the domain's faces: outside, as the lattice's outer nodes are (the caps close the solid).
+    bool fine_on_border(const FinePoint& p) const {
+        for (int a = 0; a < 3; ++a)
+            if (p[std::size_t(a)] == 0 || p[std::size_t(a)] == int64_t(l_.cells[a]) * kRefine) return true;
+        return false;
+    }
+
+    struct FineValue {
+        double evaluated, value;  ///< as evaluated, and after read_beside
+        bool inside;
+    };
+    /// The fine points' values by fine_key: open addressing with linear probing, two arrays
+    /// for up to half a million points, not an allocation per point.
+    class FineValues {
+    public:
+        /// The value slot of `key`, made empty if new (`added` says which).
+        FineValue& slot(uint64_t key, bool& added) {
+            if ((size_ + 1) * 2 > keys_.size()) grow();
+            std::size_t i = home(key);
+            while (keys_[i] != kEmpty && keys_[i] != key) i = (i + 1) & (keys_.size() - 1);
+            added = keys_[i] == kEmpty;
+            if (added) keys_[i] = key, values_[i] = {}, ++size_;
+            return values_[i];
+        }
+        bool add(uint64_t key) {
+            bool added = false;
+            slot(key, added);
+            return added;
+        }
+        const FineValue& at(uint64_t key) const {
+            std::size_t i = home(key);
+            while (keys_[i] != key) {
+                if (keys_[i] == kEmpty) throw std::logic_error("mesher: a fine point was not evaluated");
+                i = (i + 1) & (keys_.size() - 1);
+            }
+            return values_[i];
+        }
+
+    private:
+        static constexpr uint64_t kEmpty = UINT64_MAX;  ///< no fine_key: its coordinates are below 2^21
+        std::size_t home(uint64_t key) const { return std::size_t((key * 0x9e3779b97f4a7c15ULL) >> 20) & (keys_.size() - 1); }
+        void grow() {
+            std::vector<uint64_t> keys(std::max<std::size_t>(1024, keys_.size() * 2), kEmpty);
+            std::vector<FineValue> values(keys.size());
+            keys.swap(keys_);
+            values.swap(values_);
+            size_ = 0;
+            for (std::size_t i = 0; i < keys.size(); ++i)
+                if (keys[i] != kEmpty) {
+                    bool added = false;
+                    slot(keys[i], added) = values[i];
+                }
+        }
+        std::vector<uint64_t> keys_;
+        std::vector<FineValue> values_;
+        std::size_t size_ = 0;
+    };
+
+    /// The leaf (of kLeafCells³ cells) a fine point or cell is in, numbered x + leaves_x·(y +
+    /// leaves_y·z); a point on the lattice's upper faces in the last.
+    uint64_t leaf_of(const FinePoint& p) const {
+        uint64_t id = 0;
+        for (int a = 2; a >= 0; --a) {
+            const int64_t leaf = std::min<int64_t>(p[std::size_t(a)] / (int64_t(kRefine) * kLeafCells), l_.leaves[a] - 1);
+            id = id * uint64_t(l_.leaves[a]) + uint64_t(leaf);
+        }
+        return id;
+    }
+    /// The model's tape shortened for leaf `leaf` (its values bit for bit: box_simplify.hpp)
+    /// in max-live slots, into w.leaf_tape: a refined leaf's points run a few dozen
+    /// instructions of bear.vm's thousands.
+    const Tape& tape_for_leaf(uint64_t leaf, Worker& w) const {
+        const uint64_t c[3] = {leaf % uint64_t(l_.leaves[0]), leaf / uint64_t(l_.leaves[0]) % uint64_t(l_.leaves[1]),
+                               leaf / (uint64_t(l_.leaves[0]) * uint64_t(l_.leaves[1]))};
+        std::array<Interval, 3> axes;
+        for (int a = 0; a < 3; ++a) {
+            const int c0 = int(c[a]) * kLeafCells, c1 = std::min(c0 + kLeafCells, l_.cells[a]);
+            axes[std::size_t(a)] = {std::min(l_.at(a, c0), l_.at(a, c1)), std::max(l_.at(a, c0), l_.at(a, c1)), false};
+        }
+        evaluate_intervals(ssa_, axes, w.ranges);
+        if (w.tapes.empty()) w.tapes.push_back(std::make_unique<Tape>());
+        simplify_for_sign(ssa_, w.ranges, w.box, *w.tapes[0], /*keep_values=*/true);
+        reallocate_slots(*w.tapes[0], w.leaf_tape, w.slot_scratch);
+        return w.leaf_tape;
+    }
+    /// Calls work(group, tape, worker) for each run of `items` (sorted by their leaf,
+    /// leaf_of_item) in one leaf, on the workers, with that leaf's tape.
+    template <class Work, class LeafOf>
+    void per_leaf(std::size_t count, const LeafOf& leaf_of_item, std::vector<Worker>& workers, const EvalOptions& options,
+                  const Work& work) const {
+        std::vector<std::size_t> starts;
+        for (std::size_t i = 0; i < count; ++i)
+            if (i == 0 || leaf_of_item(i) != leaf_of_item(i - 1)) starts.push_back(i);
+        starts.push_back(count);
+        EvalOptions quiet = options;
+        quiet.progress = nullptr;
+        parallel_for(starts.size() - 1, quiet, [&](std::size_t g, int worker) {
+            Worker& w = workers[std::size_t(worker)];
+            const Tape& tape = tape_for_leaf(leaf_of_item(starts[g]), w);
+            work(starts[g], starts[g + 1], tape, w);
+            return std::size_t{0};
+        });
+    }
+
+    /// Evaluates the points `keys` names (none in `values` yet, no two the same) into
+    /// `values`, on their leaves' tapes, NaN and zeros read beside as at the lattice's nodes
+    /// (so a coarse node gets the sign its leaf gave it).
+    void evaluate_fine(std::vector<uint64_t> keys, FineValues& values, std::vector<Worker>& workers,
+                       const EvalOptions& options) const {
+        constexpr std::size_t kBatch = 1024;
+        std::sort(keys.begin(), keys.end(), [&](uint64_t a, uint64_t b) {
+            return std::pair(leaf_of(fine_point(a)), a) < std::pair(leaf_of(fine_point(b)), b);
+        });
+        std::vector<FineValue> out(keys.size());
+        per_leaf(keys.size(), [&](std::size_t i) { return leaf_of(fine_point(keys[i])); }, workers, options,
+                 [&](std::size_t begin, std::size_t end, const Tape& tape, Worker& w) {
+            for (std::size_t first = begin; first < end; first += kBatch) {
+                const int n = int(std::min(kBatch, end - first));
+                auto position = [&](int i) { return fine_position(fine_point(keys[first + std::size_t(i)])); };
+                bind_slots(w.lanes, w.slots, tape, n);
+                for (auto [slot, axis] : tape.arguments)
+                    for (int i = 0; i < n; ++i) w.slots[slot][i] = position(i)[std::size_t(axis)];
+                for (auto [slot, value] : tape.constants) std::fill_n(w.slots[slot], n, value);
+                run_lanes<double, 0>(tape.code.data(), tape.code.size(), w.slots.data(), n);
+                double evaluated[kBatch], value[kBatch];
+                std::copy_n(w.slots[tape.root_slot], n, evaluated);
+                std::copy_n(evaluated, n, value);
+                w.stats.node_evaluations += std::size_t(n);
+                w.stats.node_evaluations += read_beside(value, n, w.nudged_lanes, w.nudged_slots, [](int) { return true; },
+                                                        position, [](int) { return -1; });
+                for (int i = 0; i < n; ++i)
+                    out[first + std::size_t(i)] = {evaluated[i], value[i], !fine_on_border(fine_point(keys[first + std::size_t(i)])) && value[i] > 0};
+            }
+        });
+        for (std::size_t i = 0; i < keys.size(); ++i) {
+            bool added = false;
+            values.slot(keys[i], added) = out[i];
+        }
+    }
+
+    /// The cells to refine: the thin cells, and each cell across a face of a refined one whose
+    /// fine nodes show a part its four corners do not (all on one side, a fine node on the
+    /// other: the blade or sheet goes on into it), until none is left or kMaxRefinedCells.
+    RefinedCells cells_to_refine(const std::vector<uint64_t>& thin, const std::vector<uint64_t>& keep, FineValues& values,
+                                 std::vector<Worker>& workers, const EvalOptions& options, std::vector<uint64_t>& left) const {
+        RefinedCells region({l_.cells[0], l_.cells[1], l_.cells[2]});
+        std::vector<uint64_t> frontier, dropped;  // dropped: wanted beyond kMaxRefinedCells
+        for (uint64_t cell : thin)
+            if (!region.would_change(cell, keep)) frontier.push_back(cell);
+        while (!frontier.empty()) {
+            if (region.size() + frontier.size() > kMaxRefinedCells) {
+                dropped.assign(frontier.begin() + long(kMaxRefinedCells - region.size()), frontier.end());
+                frontier.resize(kMaxRefinedCells - region.size());
+            }
+            region.refine(frontier);
+            std::vector<uint64_t> keys;
+            for (uint64_t cell : frontier)
+                for (const FinePoint& p : region.nodes_of(cell))
+                    if (values.add(fine_key(p))) keys.push_back(fine_key(p));
+            evaluate_fine(keys, values, workers, options);
+            std::vector<uint64_t> next;
+            for (uint64_t cell : frontier) {
+                const auto c = region.coords(cell);
+                for (int axis = 0; axis < 3; ++axis)
+                    for (int side = 0; side < 2; ++side) {
+                        std::array<int64_t, 3> across = c;
+                        across[std::size_t(axis)] += side ? 1 : -1;
+                        const uint64_t neighbour = region.cell_at(across);
+                        if (neighbour == UINT64_MAX || region.refined(neighbour)) continue;
+                        const int b = (axis + 1) % 3, d = (axis + 2) % 3;
+                        auto inside_at = [&](int i, int j) {
+                            FinePoint p{c[0] * kRefine, c[1] * kRefine, c[2] * kRefine};
+                            p[std::size_t(axis)] += side * kRefine;
+                            p[std::size_t(b)] += i;
+                            p[std::size_t(d)] += j;
+                            return values.at(fine_key(p)).inside;
+                        };
+                        const bool corner = inside_at(0, 0);
+                        if (inside_at(kRefine, 0) != corner || inside_at(0, kRefine) != corner || inside_at(kRefine, kRefine) != corner)
+                            continue;  // the surface crosses the face's corners: the lattice sees it
+                        bool other = false;
+                        for (int i = 0; i <= kRefine && !other; ++i)
+                            for (int j = 0; j <= kRefine && !other; ++j) other = inside_at(i, j) != corner;
+                        if (other) next.push_back(neighbour);
+                    }
+            }
+            std::sort(next.begin(), next.end());
+            next.erase(std::unique(next.begin(), next.end()), next.end());
+            std::erase_if(next, [&](uint64_t cell) { return region.refined(cell) || region.would_change(cell, keep); });
+            if (region.size() >= kMaxRefinedCells) {
+                dropped.insert(dropped.end(), next.begin(), next.end());
+                break;
+            }
+            frontier = std::move(next);
+        }
+        std::sort(dropped.begin(), dropped.end());
+        dropped.erase(std::unique(dropped.begin(), dropped.end()), dropped.end());
+        left = std::move(dropped);
+        return region;
+    }
+
+    /// Refines the `seeds` (sorted) and the cells their thin parts go on into, but none that
+    /// would change a cell of `keep` (sorted: RefineQuery), and replaces the triangles of every
+    /// cell whose tetrahedra change (returned, sorted) with marching tetrahedra on the new ones.
+    /// `vertex_edges`: each mesh vertex's lattice edge (weld), or UINT64_MAX, kept up to date:
+    /// a second call with more seeds redoes the first's cells.
+    std::vector<uint64_t> refine(const std::vector<uint64_t>& seeds, const std::vector<uint64_t>& keep, Mesh& mesh,
+                                 std::vector<uint64_t>& triangle_cells,
+                                 std::vector<uint64_t>& vertex_edges, MeshStats& stats, const EvalOptions& options) const {
+        std::vector<Worker> workers(std::size_t(resolve_threads(options.threads)));
+        FineValues values;
+        std::vector<uint64_t> left;
+        const RefinedCells region = cells_to_refine(seeds, keep, values, workers, options, left);
+        stats.refinement_left = left.size();
+        if (!left.empty()) stats.first_left = cell_centre(left.front());
+        const std::vector<uint64_t> changed = region.changed_cells();
+        stats.refined_cells = region.size();
+        stats.transition_cells = changed.size() - region.size();
+        std::vector<std::array<FinePoint, 4>> tets;  // one cell's at a time
+        {
+            std::vector<uint64_t> keys;
+            for (uint64_t cell : changed) {
+                tets.clear();
+                region.tetrahedra(cell, tets);
+                for (const auto& t : tets)
+                    for (const FinePoint& p : t)
+                        if (values.add(fine_key(p))) keys.push_back(fine_key(p));
+            }
+            evaluate_fine(keys, values, workers, options);
+        }
+        // The lattice's edges keep the vertices their leaves gave them (the cells beyond share them).
+        std::unordered_map<uint64_t, uint32_t> on_lattice;
+        for (uint32_t v = 0; v < vertex_edges.size(); ++v)
+            if (vertex_edges[v] != UINT64_MAX) on_lattice.emplace(vertex_edges[v], v);
+        auto lattice_edge = [&](const FinePoint& p, const FinePoint& q) -> uint64_t {
+            uint64_t lower[3];
+            int dir = 0;
+            for (int a = 0; a < 3; ++a) {
+                if (p[std::size_t(a)] % kRefine != 0 || q[std::size_t(a)] % kRefine != 0) return UINT64_MAX;
+                const int64_t i = p[std::size_t(a)] / kRefine, j = q[std::size_t(a)] / kRefine;
+                if (i != j) dir |= 1 << a;
+                lower[a] = uint64_t(std::min(i, j));
+            }
+            return (lower[0] + uint64_t(l_.nodes[0]) * (lower[1] + uint64_t(l_.nodes[1]) * lower[2])) * 8 + uint64_t(dir);
+        };
+        struct NewEdge {
+            Vec from, along;
+            double f_in, f_out;
+            bool zero_end;
+        };
+        std::vector<NewEdge> pending;
+        std::vector<uint64_t> pending_leaf;  // the leaf of the cell each was found in
+        struct PairHash {
+            std::size_t operator()(const std::pair<uint64_t, uint64_t>& p) const { return std::hash<uint64_t>()(p.first * 0x9e3779b97f4a7c15ULL ^ p.second); }
+        };
+        std::unordered_map<std::pair<uint64_t, uint64_t>, uint32_t, PairHash> new_edges;  // (inside, outside) → pending index
+        const uint32_t base = uint32_t(mesh.vertices.size());
+        uint64_t leaf = 0;  // the leaf of the cell whose triangles are being made
+        auto vertex = [&](const FinePoint& in, const FinePoint& out) -> uint32_t {
+            if (const uint64_t e = lattice_edge(in, out); e != UINT64_MAX)
+                if (const auto it = on_lattice.find(e); it != on_lattice.end()) return it->second;
+            const std::pair<uint64_t, uint64_t> key{fine_key(in), fine_key(out)};
+            if (const auto it = new_edges.find(key); it != new_edges.end()) return base + it->second;
+            const FineValue& a = values.at(key.first);
+            const FineValue& b = values.at(key.second);
+            const Vec p = fine_position(in), q = fine_position(out);
+            pending.push_back({p, {q[0] - p[0], q[1] - p[1], q[2] - p[2]}, a.value, b.value, a.evaluated == 0 || b.value == 0});
+            pending_leaf.push_back(leaf);
+            new_edges.emplace(key, uint32_t(pending.size() - 1));
+            return base + uint32_t(pending.size() - 1);
+        };
+        std::vector<std::array<uint32_t, 3>> triangles;
+        std::vector<uint64_t> cells_of;
+        for (uint64_t cell : changed) {
+            tets.clear();
+            region.tetrahedra(cell, tets);
+            const auto c = region.coords(cell);
+            leaf = leaf_of({c[0] * kRefine, c[1] * kRefine, c[2] * kRefine});
+            for (const auto& q : tets) {
+                int inside = 0;
+                std::array<Vec, 4> corner;  // in the fine lattice's coordinates: the sides are the same
+                for (int k = 0; k < 4; ++k) {
+                    inside |= int(values.at(fine_key(q[std::size_t(k)])).inside) << k;
+                    for (int a = 0; a < 3; ++a) corner[std::size_t(k)][std::size_t(a)] = double(q[std::size_t(k)][std::size_t(a)]);
+                }
+                TetTriangle tri[2];
+                const int count = tetrahedron_triangles(corner, inside, tri);
+                for (int k = 0; k < count; ++k) {
+                    std::array<uint32_t, 3> out;
+                    for (int v = 0; v < 3; ++v)
+                        out[std::size_t(v)] = vertex(q[std::size_t(tri[k][std::size_t(v)][0])], q[std::size_t(tri[k][std::size_t(v)][1])]);
+                    triangles.push_back(out);
+                    cells_of.push_back(cell);
+                }
+            }
+        }
+        // The new edges' zeros, leaf by leaf on the leaves' tapes (an edge lies in its cell's
+        // closed box, so in its leaf's).
+        std::vector<uint32_t> order(pending.size());
+        for (uint32_t e = 0; e < order.size(); ++e) order[e] = e;
+        std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return pending_leaf[a] < pending_leaf[b]; });
+        mesh.vertices.resize(base + pending.size());
+        mesh.normals.resize(base + pending.size());
+        per_leaf(order.size(), [&](std::size_t i) { return pending_leaf[order[i]]; }, workers, options,
+                 [&](std::size_t begin, std::size_t end, const Tape& tape, Worker& w) {
+            std::vector<NewEdge> part;
+            for (std::size_t i = begin; i < end; ++i) part.push_back(pending[order[i]]);
+            LeafMesh solved;
+            solve_edges(tape, part, solved, false, w);
+            for (std::size_t i = begin; i < end; ++i) {
+                mesh.vertices[base + order[i]] = solved.positions[i - begin];
+                mesh.normals[base + order[i]] = solved.normals[i - begin];
+            }
+        });
+        vertex_edges.resize(mesh.vertices.size(), UINT64_MAX);
+        // The changed cells' old triangles out, the new in, and the vertices left unused dropped.
+        std::vector<std::array<uint32_t, 3>> kept;
+        std::vector<uint64_t> kept_cells;
+        kept.reserve(mesh.triangles.size() + triangles.size());
+        kept_cells.reserve(mesh.triangles.size() + triangles.size());
+        for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+            if (!std::binary_search(changed.begin(), changed.end(), triangle_cells[t]))
+                kept.push_back(mesh.triangles[t]), kept_cells.push_back(triangle_cells[t]);
+        kept.insert(kept.end(), triangles.begin(), triangles.end());
+        kept_cells.insert(kept_cells.end(), cells_of.begin(), cells_of.end());
+        std::vector<uint32_t> renumber(mesh.vertices.size(), UINT32_MAX);
+        for (const auto& t : kept)
+            for (uint32_t v : t) renumber[v] = 0;
+        Mesh out;
+        std::vector<uint64_t> edges;
+        out.vertices.reserve(mesh.vertices.size());
+        out.normals.reserve(mesh.vertices.size());
+        edges.reserve(mesh.vertices.size());
+        for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
+            if (renumber[v] == UINT32_MAX) continue;
+            renumber[v] = uint32_t(out.vertices.size());
+            out.vertices.push_back(mesh.vertices[v]);
+            out.normals.push_back(mesh.normals[v]);
+            edges.push_back(vertex_edges[v]);
+        }
+        vertex_edges = std::move(edges);
+        for (auto& t : kept)
+            for (uint32_t& v : t) v = renumber[v];
+        out.triangles = std::move(kept);
+        mesh = std::move(out);
+        triangle_cells = std::move(kept_cells);
+        for (const Worker& w : workers) {
+            stats.node_evaluations += w.stats.node_evaluations;
+            stats.edge_evaluations += w.stats.edge_evaluations;
+            stats.crossing_edges += w.stats.crossing_edges;
+        }
+        return changed;
+    }
+
 private:
     Lattice l_;
+    const Tape& ssa_;
     const Tape& whole_;
-    bool count_unreached_;
 };
 
 /// Where `edge` is in a leaf's increasing crossing edges: a binary search without branches.
@@ -580,10 +1007,12 @@ std::size_t edge_index(const std::vector<uint16_t>& edges, uint16_t edge) {
 }
 
 /// Joins the leaves' vertices (each owned by one leaf) and triangles into one indexed mesh;
-/// `triangle_cells` gets each triangle's cell, x + cells_x·(y + cells_y·z). Leaves are
-/// welded in parallel, each into its own ranges, which depend only on the leaves' order.
+/// `triangle_cells` gets each triangle's cell, x + cells_x·(y + cells_y·z), and
+/// `vertex_edges`, if given, each vertex's lattice edge, node·8 + direction (node x +
+/// nodes_x·(y + nodes_y·z)). Leaves are welded in parallel, each into its own ranges, which
+/// depend only on the leaves' order.
 Mesh weld(std::vector<LeafMesh>& leaves, const Lattice& l, std::vector<uint64_t>& triangle_cells,
-          const EvalOptions& options) {
+          std::vector<uint64_t>* vertex_edges, const EvalOptions& options) {
     std::sort(leaves.begin(), leaves.end(), [](const LeafMesh& a, const LeafMesh& b) {
         return std::tie(a.leaf[2], a.leaf[1], a.leaf[0]) < std::tie(b.leaf[2], b.leaf[1], b.leaf[0]);
     });
@@ -606,12 +1035,21 @@ Mesh weld(std::vector<LeafMesh>& leaves, const Lattice& l, std::vector<uint64_t>
     mesh.normals.resize(base.back());
     mesh.triangles.resize(first_triangle.back());
     triangle_cells.resize(first_triangle.back());
+    if (vertex_edges) vertex_edges->resize(base.back());
     EvalOptions quiet;
     quiet.threads = options.threads;
     parallel_for(leaves.size(), quiet, [&](std::size_t i, int) {
         const LeafMesh& m = leaves[i];
         std::copy(m.positions.begin(), m.positions.end(), mesh.vertices.begin() + base[i]);
         std::copy(m.normals.begin(), m.normals.end(), mesh.normals.begin() + base[i]);
+        if (vertex_edges)
+            for (std::size_t k = 0; k < m.edges.size(); ++k) {
+                const int node = m.edges[k] >> 3, dir = m.edges[k] & 7;
+                const uint64_t x = uint64_t(m.leaf[0]) * kLeafCells + uint64_t(node % kLeafCells),
+                               y = uint64_t(m.leaf[1]) * kLeafCells + uint64_t(node / kLeafCells % kLeafCells),
+                               z = uint64_t(m.leaf[2]) * kLeafCells + uint64_t(node / (kLeafCells * kLeafCells));
+                (*vertex_edges)[base[i] + k] = (x + uint64_t(l.nodes[0]) * (y + uint64_t(l.nodes[1]) * z)) * 8 + uint64_t(dir);
+            }
         std::size_t t = first_triangle[i];
         for (const auto& tri : m.triangles) {
             std::array<uint32_t, 3>& out = mesh.triangles[t++];
@@ -672,7 +1110,7 @@ Mesh extract_mesh(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
     Tape whole;
     SlotScratch whole_scratch;
     reallocate_slots(*pruning, whole, whole_scratch);
-    const Mesher mesher(grid, whole, stats != nullptr);
+    const Mesher mesher(grid, *pruning, whole);
     const Lattice& l = mesher.lattice();
     int size = 1;
     while (size < std::max({l.leaves[0], l.leaves[1], l.leaves[2]})) size *= 2;
@@ -714,7 +1152,7 @@ Mesh extract_mesh(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
     if (options.cancel && options.cancel->load()) return {};
     std::vector<LeafMesh> leaves;
     MeshStats total;
-    uint64_t first_unreached_cell = UINT64_MAX;
+    std::vector<std::pair<uint64_t, bool>> thin;
     DomainCaps caps;
     caps.margin = kEdgeMargin;
     for (Worker& w : workers) {
@@ -725,19 +1163,45 @@ Mesh extract_mesh(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
         total.node_evaluations += w.stats.node_evaluations;
         total.edge_evaluations += w.stats.edge_evaluations;
         total.crossing_edges += w.stats.crossing_edges;
-        total.unreached_cells += w.stats.unreached_cells;
-        first_unreached_cell = std::min(first_unreached_cell, w.first_unreached_cell);
+        thin.insert(thin.end(), w.thin_cells.begin(), w.thin_cells.end());
     }
-    if (total.unreached_cells > 0) {  // that cell's centre
-        const uint64_t g[3] = {first_unreached_cell % uint64_t(l.cells[0]), first_unreached_cell / uint64_t(l.cells[0]) % uint64_t(l.cells[1]),
-                               first_unreached_cell / (uint64_t(l.cells[0]) * uint64_t(l.cells[1]))};
-        for (int a = 0; a < 3; ++a) total.first_unreached[std::size_t(a)] = l.at(a, int(g[a])) + 0.5 * l.step[a];
-    }
+    std::sort(thin.begin(), thin.end());  // the same on any number of threads
+    total.thin_cells = thin.size();
+    if (!thin.empty()) total.first_thin = mesher.cell_centre(thin[0].first);
     workers.clear();
-    std::vector<uint64_t> triangle_cells;
-    Mesh mesh = weld(leaves, l, triangle_cells, options);
+    const bool refining = RefinedCells::fits({l.cells[0], l.cells[1], l.cells[2]});
+    std::vector<uint64_t> triangle_cells, vertex_edges;
+    Mesh mesh = weld(leaves, l, triangle_cells, refining ? &vertex_edges : nullptr, options);
     leaves.clear();
-    sharpen_features(graph, root, grid, mesh, triangle_cells, caps, stats ? &total.features : nullptr);
+    if (options.cancel && options.cancel->load()) return {};
+    // The feature pass says which cells to refine: the thin cells where it did not put an
+    // edge back, and those round edges it left more than half a cell off (wedges thinner than
+    // a cell that no centre fell in). They are refined and the pass runs again on the new
+    // mesh, up to kRefinePasses times.
+    std::vector<uint64_t> seeds, keep, changed;
+    for (int pass = 0;; ++pass) {
+        RefineQuery query;
+        for (const auto& [cell, inside] : thin) query.thin_cells.push_back(cell), query.thin_inside.push_back(inside);
+        const bool last = !refining || pass == kRefinePasses;
+        if (sharpen_features(graph, root, grid, mesh, triangle_cells, caps, changed, stats ? &total.features : nullptr,
+                             last ? nullptr : &query))
+            break;
+        if (options.cancel && options.cancel->load()) return {};
+        const std::size_t before = seeds.size();
+        seeds.insert(seeds.end(), query.refine.begin(), query.refine.end());
+        std::sort(seeds.begin(), seeds.end());
+        seeds.erase(std::unique(seeds.begin(), seeds.end()), seeds.end());
+        keep.insert(keep.end(), query.keep.begin(), query.keep.end());
+        std::sort(keep.begin(), keep.end());
+        keep.erase(std::unique(keep.begin(), keep.end()), keep.end());
+        if (seeds.size() == before) {  // nothing new to refine: the next pass is the last
+            pass = kRefinePasses - 1;
+            continue;
+        }
+        total.refine_seeds = seeds.size();
+        changed = mesher.refine(seeds, keep, mesh, triangle_cells, vertex_edges, total, options);
+        if (options.cancel && options.cancel->load()) return {};  // its points may be half evaluated
+    }
     if (stats) *stats = total;
     return mesh;
 }

@@ -32,6 +32,11 @@
 // (ARCTAN(Y/X) on the Z axis) takes the field beside it, not NaN's "outside", and a zero the
 // solid only touches from inside (two parts joined on a plane) counts as inside: a node line
 // or plane of them would bore a hairline tunnel or slit through the solid.
+// A part thinner than a cell, which no node falls in, is found by cell centres on the other
+// side of the surface from both ends of their main diagonal; where the sharp-feature pass does
+// not mend it, and round edges it leaves more than half a cell off, the cells are cut four
+// times finer and joined to the lattice by transition cells (mesh_refine.hpp), keeping every
+// guarantee above.
 #pragma once
 
 #include "interp/engine.hpp"
@@ -54,11 +59,21 @@ struct MeshStats {
     std::size_t crossing_edges = 0;   ///< marching-tetrahedra vertices
     /// Cells whose centre is on the other side of the surface from all eight of their nodes
     /// (inside the solid with every node outside, or the reverse): a part of the solid or a
-    /// hole in it thinner than a cell, which marching tetrahedra leave out, its surface at
-    /// least nearly half a cell from the mesh. Counted only where stats are asked for; cells
-    /// on the domain's faces (whose nodes count as outside, closing the solid) are not.
-    std::size_t unreached_cells = 0;
-    std::array<double, 3> first_unreached{};  ///< the centre of the one with the lowest cell index
+    /// hole in it thinner than a cell, which marching tetrahedra on the lattice leave out.
+    /// Cells on the domain's faces (whose nodes count as outside, closing the solid) are not
+    /// tried.
+    std::size_t thin_cells = 0;
+    std::array<double, 3> first_thin{};  ///< the centre of the one with the lowest cell index
+    /// The cells refinement started from (mesh_refine.hpp): the thin cells whose centre the
+    /// mesh did not come within a quarter of a cell of after the sharp-feature pass, and the
+    /// cells round the edges it left more than half a cell off (a wedge thinner than a cell
+    /// that no centre falls in).
+    std::size_t refine_seeds = 0;
+    std::size_t refined_cells = 0;       ///< cells cut kRefine times finer per axis, these and the cells a part goes on into
+    std::size_t transition_cells = 0;    ///< cells round them cut into cones from their centre
+    /// Cells a refined part goes on into that were left unrefined: kMaxRefinedCells reached.
+    std::size_t refinement_left = 0;
+    std::array<double, 3> first_left{};  ///< the centre of the one with the lowest cell index
     FeatureStats features;            ///< the sharp features put back (mesh_features.hpp)
 };
 

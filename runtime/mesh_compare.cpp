@@ -95,14 +95,10 @@ double one_sided(const Mesh& from, const TriangleBuckets& to) {
 
 }  // namespace
 
-/// Distance from p to triangle abc (Ericson, Real-Time Collision Detection §5.1.5).
-double point_triangle_distance(const Vec& p, const Vec& a, const Vec& b, const Vec& c) {
+/// The point of triangle abc nearest p (Ericson, Real-Time Collision Detection §5.1.5).
+Vec closest_point_on_triangle(const Vec& p, const Vec& a, const Vec& b, const Vec& c) {
     const Vec ab = sub(b, a), ac = sub(c, a), ap = sub(p, a);
-    auto at = [&](double v, double w) {
-        const Vec q{a[0] + ab[0] * v + ac[0] * w, a[1] + ab[1] * v + ac[1] * w, a[2] + ab[2] * v + ac[2] * w};
-        const Vec d = sub(p, q);
-        return std::sqrt(dot(d, d));
-    };
+    auto at = [&](double v, double w) { return Vec{a[0] + ab[0] * v + ac[0] * w, a[1] + ab[1] * v + ac[1] * w, a[2] + ab[2] * v + ac[2] * w}; };
     const double d1 = dot(ab, ap), d2 = dot(ac, ap);
     if (d1 <= 0 && d2 <= 0) return at(0, 0);
     const Vec bp = sub(p, b);
@@ -122,6 +118,11 @@ double point_triangle_distance(const Vec& p, const Vec& a, const Vec& b, const V
     }
     const double denom = 1.0 / (va + vb + vc);
     return at(vb * denom, vc * denom);
+}
+
+double point_triangle_distance(const Vec& p, const Vec& a, const Vec& b, const Vec& c) {
+    const Vec d = sub(p, closest_point_on_triangle(p, a, b, c));
+    return std::sqrt(dot(d, d));
 }
 
 MeshTopology mesh_topology(const Mesh& mesh) {

@@ -30,6 +30,10 @@ struct MeshTopology {
 
 MeshTopology mesh_topology(const Mesh& mesh);
 
+/// The point of triangle abc nearest p.
+std::array<double, 3> closest_point_on_triangle(const std::array<double, 3>& p, const std::array<double, 3>& a,
+                                                const std::array<double, 3>& b, const std::array<double, 3>& c);
+
 /// Distance from p to triangle abc.
 double point_triangle_distance(const std::array<double, 3>& p, const std::array<double, 3>& a,
                                const std::array<double, 3>& b, const std::array<double, 3>& c);

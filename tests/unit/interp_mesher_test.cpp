@@ -57,7 +57,7 @@ TEST_CASE("mesh vertices are the field's zeros to round-off, with the exact outw
         worst = std::max(worst, std::fabs(r - 0.47));
         for (int k = 0; k < 3; ++k) worst_normal = std::max(worst_normal, std::fabs(mesh.normals[v][k] - p[k] / r));
     }
-    CHECK(stats.unreached_cells == 0);  // smooth and larger than a cell: every part reached
+    CHECK(stats.thin_cells == 0);  // smooth and larger than a cell: every part reached
     CHECK(worst < 1e-14);  // ~20 ulp of the radius
     CHECK(worst_normal < 1e-7);  // the gradient at the last Newton iterate, within 1e-7 of an edge of the vertex
 }
@@ -135,53 +135,109 @@ TEST_CASE("where the field is NaN on a grid plane or line, or zero inside the so
     }
 }
 
-TEST_CASE("cells whose centre is on the other side from all their nodes are counted: parts thinner than a cell") {
+TEST_CASE("parts thinner than a cell are found by their cells' centres and meshed on a finer lattice there") {
     // On 21 nodes over [-1, 1]^3 (cells of 0.1) the slab 0.04 < z < 0.06 holds no node but
     // the centres of the layer of cells at z = 0.05. Cut by a ball it is a disc that marching
-    // tetrahedra leave out, and cut from one, a slit they do not open. The expected counts come
-    // from the cells themselves, here: corners and centre against the formula.
+    // tetrahedra on the lattice leave out, and cut from one, a slit they do not open. The
+    // expected counts come from the cells themselves, here: corners and centre against the
+    // formula (R0's a & b = a + b - √(a² + b²)): the main diagonal's ends on one side, the
+    // centre on the other (marching tetrahedra cut the diagonal where it crosses the surface)
+    // and a fiftieth of a cell or more beyond the surface to first order, |f| / |∇f| (central
+    // differences here). Refined four times, the slab holds the fine nodes at z = 0.05.
     const Grid grid = cube(1, 21);
     auto at = [](int i) { return -1 + 0.1 * i; };
-    auto count_cells = [&](const auto& inside, std::array<double, 3>& first) {
+    auto r0_and = [](double a, double b) { return a + b - std::sqrt(a * a + b * b); };
+    auto count_cells = [&](const auto& f, std::array<double, 3>& first) {
         std::size_t n = 0;
         for (int z = 1; z < 19; ++z)  // not the cells on the domain's faces, whose nodes count as outside
             for (int y = 1; y < 19; ++y)
                 for (int x = 1; x < 19; ++x) {
-                    int in = 0;
-                    for (int c = 0; c < 8; ++c) in += inside(at(x + (c & 1)), at(y + (c >> 1 & 1)), at(z + (c >> 2)));
-                    const bool centre = inside(at(x) + 0.05, at(y) + 0.05, at(z) + 0.05);
-                    if ((in == 0 && centre) || (in == 8 && !centre)) {
+                    // The main diagonal's ends, (x, y, z) and (x + 1, y + 1, z + 1), against the centre.
+                    const bool low = f(at(x), at(y), at(z)) > 0, high = f(at(x + 1), at(y + 1), at(z + 1)) > 0;
+                    const double cx = at(x) + 0.05, cy = at(y) + 0.05, cz = at(z) + 0.05, d = 1e-6;
+                    const double centre = f(cx, cy, cz);
+                    const double slope = std::hypot(f(cx + d, cy, cz) - f(cx - d, cy, cz), f(cx, cy + d, cz) - f(cx, cy - d, cz),
+                                                    f(cx, cy, cz + d) - f(cx, cy, cz - d)) / (2 * d);
+                    if (low == high && (centre > 0) != low && std::fabs(centre) >= 0.02 * 0.1 * slope) {
                         if (n++ == 0) first = {at(x) + 0.05, at(y) + 0.05, at(z) + 0.05};
                     }
                 }
         return n;
     };
+    // The mesh's pieces (connected by triangles), its Euler characteristic and its volume.
+    auto pieces = [](const Mesh& mesh) {
+        std::vector<uint32_t> parent(mesh.vertices.size());
+        for (uint32_t v = 0; v < parent.size(); ++v) parent[v] = v;
+        auto root = [&](uint32_t v) {
+            while (parent[v] != v) v = parent[v] = parent[parent[v]];
+            return v;
+        };
+        for (const auto& t : mesh.triangles) parent[root(t[1])] = root(t[0]), parent[root(t[2])] = root(t[0]);
+        std::size_t n = 0;
+        for (uint32_t v = 0; v < parent.size(); ++v) n += root(v) == v;
+        return n;
+    };
+    auto euler = [](const Mesh& mesh) {
+        std::map<std::pair<uint32_t, uint32_t>, int> edges;
+        for (const auto& t : mesh.triangles)
+            for (int k = 0; k < 3; ++k) ++edges[{std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3])}];
+        return long(mesh.vertices.size()) - long(edges.size()) + long(mesh.triangles.size());
+    };
+    auto volume = [](const Mesh& mesh) {
+        double v = 0;
+        for (const auto& t : mesh.triangles) {
+            const auto &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
+            v += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0])) / 6;
+        }
+        return v;
+    };
+    const double pi = std::acos(-1.0);
     SUBCASE("a disc") {
         const Model m = model_of("ARGUMENT X, Y, Z\nRETURN (0.0001 - (Z - 0.05)^2) & (0.25 - X*X - Y*Y - Z*Z)\n");
         MeshStats stats;
         const Mesh mesh = extract_mesh(m.graph, m.root, grid, {}, &stats);
-        CHECK(mesh.triangles.empty());
         std::array<double, 3> first{};
-        const std::size_t expected = count_cells([](double x, double y, double z) {
-            return std::fabs(z - 0.05) < 0.01 && x * x + y * y + z * z < 0.25;
+        const std::size_t expected = count_cells([&](double x, double y, double z) {
+            return r0_and(0.0001 - (z - 0.05) * (z - 0.05), 0.25 - x * x - y * y - z * z);
         }, first);
         CHECK(expected == 80);  // the centres (x, y, 0.05) with x² + y² < 0.2475
-        CHECK(stats.unreached_cells == expected);
-        for (int a = 0; a < 3; ++a) CHECK(stats.first_unreached[std::size_t(a)] == doctest::Approx(first[std::size_t(a)]).epsilon(1e-12));
+        CHECK(stats.thin_cells == expected);
+        for (int a = 0; a < 3; ++a) CHECK(stats.first_thin[std::size_t(a)] == doctest::Approx(first[std::size_t(a)]).epsilon(1e-12));
+        // The rim's cells have no centre inside: they are reached across the refined cells' faces.
+        CHECK(stats.refined_cells > expected);
+        CHECK(stats.refinement_left == 0);
+        // One closed piece, a sphere's topology, of the disc's volume: π (0.25 - 0.05²) 0.02 to
+        // within 3% (marching tetrahedra cut the rim's corners).
+        CHECK(open_edges(mesh) == 0);
+        CHECK(pieces(mesh) == 1);
+        CHECK(euler(mesh) == 2);
+        CHECK(volume(mesh) == doctest::Approx(pi * (0.25 - 0.0025) * 0.02).epsilon(0.03));
+        // Every vertex on the surface: a face of the slab or the ball.
+        for (const auto& p : mesh.vertices) {
+            const double slab = std::fabs(std::fabs(p[2] - 0.05) - 0.01), ball = std::fabs(std::hypot(p[0], p[1], p[2]) - 0.5);
+            REQUIRE(std::min(slab, ball) < 1e-12);
+        }
     }
     SUBCASE("a slit") {
         const Model m = model_of("ARGUMENT X, Y, Z\nRETURN (0.49 - X*X - Y*Y - Z*Z) & ((Z - 0.05)^2 - 0.0001)\n");
         MeshStats stats;
         const Mesh mesh = extract_mesh(m.graph, m.root, grid, {}, &stats);
-        CHECK(open_edges(mesh) == 0);
         std::array<double, 3> first{};
-        const std::size_t expected = count_cells([](double x, double y, double z) {
-            return std::fabs(z - 0.05) > 0.01 && x * x + y * y + z * z < 0.49;
+        const std::size_t expected = count_cells([&](double x, double y, double z) {
+            return r0_and(0.49 - x * x - y * y - z * z, (z - 0.05) * (z - 0.05) - 0.0001);
         }, first);
-        CHECK(expected == 120);
-        CHECK(stats.unreached_cells == expected);
-        for (int a = 0; a < 3; ++a) CHECK(stats.first_unreached[std::size_t(a)] == doctest::Approx(first[std::size_t(a)]).epsilon(1e-12));
-        // Without stats asked for (the cells are not counted), the mesh is the same.
+        CHECK(expected == 128);  // 140 by the diagonal alone: 12 centres lie within a fiftieth of a cell of the surface
+        CHECK(stats.thin_cells == expected);
+        for (int a = 0; a < 3; ++a) CHECK(stats.first_thin[std::size_t(a)] == doctest::Approx(first[std::size_t(a)]).epsilon(1e-12));
+        CHECK(stats.refinement_left == 0);
+        // The ball cut in two: two closed pieces, each a sphere's topology, and the slit's
+        // volume gone (without it the volume would be 1.43).
+        CHECK(open_edges(mesh) == 0);
+        CHECK(pieces(mesh) == 2);
+        CHECK(euler(mesh) == 4);
+        const double cap = pi * 0.02 * (0.49 - 0.0025 - 0.0001 / 3);  // the slab's part of the ball, near enough
+        CHECK(volume(mesh) == doctest::Approx(4 * pi * 0.343 / 3 - cap).epsilon(0.01));
+        // Without stats asked for, the mesh is the same.
         CHECK(extract_mesh(m.graph, m.root, grid).triangles == mesh.triangles);
     }
 }

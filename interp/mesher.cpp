@@ -1168,8 +1168,12 @@ Mesh extract_mesh(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
     std::sort(thin.begin(), thin.end());  // the same on any number of threads
     total.thin_cells = thin.size();
     if (!thin.empty()) total.first_thin = mesher.cell_centre(thin[0].first);
-    workers.clear();
     const bool refining = RefinedCells::fits({l.cells[0], l.cells[1], l.cells[2]});
+    if (!refining && !thin.empty()) {  // a lattice over half a million cells long: none refined, said
+        total.refinement_left = thin.size();
+        total.first_left = total.first_thin;
+    }
+    workers.clear();
     std::vector<uint64_t> triangle_cells, vertex_edges;
     Mesh mesh = weld(leaves, l, triangle_cells, refining ? &vertex_edges : nullptr, options);
     leaves.clear();

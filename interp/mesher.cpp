@@ -376,14 +376,14 @@ public:
         w.leaves.push_back(std::move(m));
     }
 
-    /// Finds the leaf's cells whose centre is on the other side from all eight of their nodes
-    /// (MeshStats::thin_cells), for refinement. Only cells with a node as near zero as the largest step
-    /// between neighbouring nodes of the leaf are tried (a part thinner than a cell lies within
-    /// a cell of their nodes, so their values are within about that step of zero): their centres
-    /// in one batch of lanes on the leaf's tape. Trying every cell cost bear.vm 25% more
-    /// instructions at 129 nodes.
+    /// Finds the leaf's cells whose centre is on the other side of the surface from both ends
+    /// of their main diagonal (MeshStats::thin_cells), for refinement. Only cells with a node as
+    /// near zero as the largest step between neighbouring nodes of the leaf are tried (a part
+    /// thinner than a cell lies within a cell of their nodes, so their values are within about
+    /// that step of zero): their centres in one batch of lanes on the leaf's tape. Trying every
+    /// cell cost bear.vm 25% more instructions at 129 nodes.
     void find_thin_cells(const Tape& tape, const int* c0, const int* nc, const int* nn, const double* values,
-                               const bool* inside, Worker& w) const {
+                         const bool* inside, Worker& w) const {
         auto node = [&](int x, int y, int z) { return (z * nn[1] + y) * nn[0] + x; };
         const int nodes = nn[0] * nn[1] * nn[2];
         double step = 0;  // the largest change between neighbouring nodes

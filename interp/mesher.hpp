@@ -57,17 +57,16 @@ struct MeshStats {
     std::size_t node_evaluations = 0; ///< grid nodes evaluated (on shortened tapes)
     std::size_t edge_evaluations = 0; ///< Newton/bisection steps on crossing edges, summed
     std::size_t crossing_edges = 0;   ///< marching-tetrahedra vertices
-    /// Cells whose centre is on the other side of the surface from all eight of their nodes
-    /// (inside the solid with every node outside, or the reverse): a part of the solid or a
-    /// hole in it thinner than a cell, which marching tetrahedra on the lattice leave out.
-    /// Cells on the domain's faces (whose nodes count as outside, closing the solid) are not
-    /// tried.
+    /// Cells whose centre is on the other side of the surface from both ends of their main
+    /// diagonal, a fiftieth of a cell beyond it or more (inside the solid with the ends outside,
+    /// or the reverse): a part of the solid or a hole in it thinner than a cell, which marching
+    /// tetrahedra on the lattice leave out. Cells on the domain's faces (whose nodes count as
+    /// outside, closing the solid) are not tried.
     std::size_t thin_cells = 0;
     std::array<double, 3> first_thin{};  ///< the centre of the one with the lowest cell index
     /// The cells refinement started from (mesh_refine.hpp): the thin cells whose centre the
-    /// mesh did not come within a quarter of a cell of after the sharp-feature pass, and the
-    /// cells round the edges it left more than half a cell off (a wedge thinner than a cell
-    /// that no centre falls in).
+    /// sharp-feature pass's mesh left on the wrong side, and the cells round the edges it left
+    /// more than half a cell off (a wedge thinner than a cell that no centre falls in).
     std::size_t refine_seeds = 0;
     std::size_t refined_cells = 0;       ///< cells cut kRefine times finer per axis, these and the cells a part goes on into
     std::size_t transition_cells = 0;    ///< cells round them cut into cones from their centre

@@ -271,8 +271,10 @@ public:
         }
         const int count = nn[0] * nn[1] * nn[2];
         auto local = [&](int x, int y, int z) { return (z * nn[1] + y) * nn[0] + x; };
-        // Node values: the leaf's tape over its nodes (exact values), or "inside" by intervals.
-        double values[kLeafNodes * kLeafNodes * kLeafNodes];
+        // Node values: the leaf's tape over its nodes (exact values), or "inside" by intervals;
+        // `evaluated` keeps them before read_beside (zeros inside the solid are zeros there),
+        // apart from the lanes, which the thin cells' centres reuse.
+        double values[kLeafNodes * kLeafNodes * kLeafNodes], evaluated[kLeafNodes * kLeafNodes * kLeafNodes];
         if (all_inside) {
             std::fill_n(values, count, 1.0);
         } else {
@@ -288,7 +290,8 @@ public:
             }
             for (auto [slot, value] : tape.constants) std::fill_n(w.slots[slot], count, value);
             run_lanes<double, 0>(tape.code.data(), tape.code.size(), w.slots.data(), count);
-            std::copy_n(w.slots[tape.root_slot], count, values);
+            std::copy_n(w.slots[tape.root_slot], count, evaluated);
+            std::copy_n(evaluated, count, values);
             w.stats.node_evaluations += count;
             w.stats.node_evaluations += read_beside(values, count, w.nudged_lanes, w.nudged_slots, [](int) { return true; }, [&](int i) {
                 return Vec{l_.at(0, c0[0] + i % nn[0]), l_.at(1, c0[1] + i / nn[0] % nn[1]), l_.at(2, c0[2] + i / (nn[0] * nn[1]))};
@@ -312,11 +315,8 @@ public:
                     inside_count += inside[i];
                 }
         ++w.stats.leaves;
-        // After the edges have read the values as evaluated: the centres reuse those lanes.
-        if (inside_count == 0) {
-            if (!all_inside) find_thin_cells(tape, c0, nc, nn, values, inside, w);
-            return;
-        }
+        if (!all_inside) find_thin_cells(tape, c0, nc, nn, values, inside, w);
+        if (inside_count == 0) return;
         for (std::size_t f = 0; f < 6; ++f) w.cut_faces[f] = w.cut_faces[f] || cut[f];  // caps here, for the feature pass
 
         LeafMesh m;
@@ -327,8 +327,6 @@ public:
             double f_in, f_out;
             bool zero_end;          ///< an end is exactly zero: the edge may lie in a plane of zeros
         };
-        // The nodes' values as evaluated, before read_beside: zeros inside the solid are zeros.
-        const double* evaluated = all_inside ? nullptr : w.slots[tape.root_slot];
         std::vector<Pending> pending;
         for (int z = 0; z < nc[2]; ++z)
             for (int y = 0; y < nc[1]; ++y)
@@ -345,9 +343,8 @@ public:
                         const Vec q{l_.at(0, c0[0] + vx), l_.at(1, c0[1] + vy), l_.at(2, c0[2] + vz)};
                         m.edges.push_back(uint16_t((x + kLeafCells * y + kLeafCells * kLeafCells * z) * 8 + dir));
                         pending.push_back({p, {q[0] - p[0], q[1] - p[1], q[2] - p[2]}, values[in], values[out],
-                                           (evaluated && evaluated[in] == 0) || values[out] == 0});
+                                           (!all_inside && evaluated[in] == 0) || values[out] == 0});
                     }
-        if (!all_inside) find_thin_cells(tape, c0, nc, nn, values, inside, w);
         m.positions.resize(pending.size());
         m.normals.resize(pending.size());
         solve_edges(tape, pending, m, all_inside, w);

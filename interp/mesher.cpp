@@ -187,6 +187,22 @@ void bind_slots(std::vector<T>& lanes, std::vector<T*>& slots, const Tape& tape,
     std::fill_n(slots[0], width, T(0.0));  // the zero slot unused operands read
 }
 
+/// Runs `tape` at `n` points, coordinate(k, axis) of point k (a variable of dual numbers for
+/// Dual lanes), in `lanes`; returns the root's lane.
+template <class T, class Coordinate>
+const T* run_at_points(const Tape& tape, std::vector<T>& lanes, std::vector<T*>& slots, int n, const Coordinate& coordinate) {
+    bind_slots(lanes, slots, tape, n);
+    for (auto [slot, axis] : tape.arguments)
+        for (int k = 0; k < n; ++k) {
+            const double x = coordinate(k, int(axis));
+            if constexpr (std::is_same_v<T, Dual>) slots[slot][k] = Dual::variable(x, axis);
+            else slots[slot][k] = x;
+        }
+    for (auto [slot, value] : tape.constants) std::fill_n(slots[slot], n, T(value));
+    run_lanes<T, 0>(tape.code.data(), tape.code.size(), slots.data(), n);
+    return slots[tape.root_slot];
+}
+
 class Mesher {
 public:
     /// `whole`: the model's tape in max-live slots, for points whose field is NaN or zero
@@ -417,11 +433,8 @@ public:
             const int g = axis == 0 ? c % kLeafCells : axis == 1 ? c / kLeafCells % kLeafCells : c / (kLeafCells * kLeafCells);
             return l_.at(axis, c0[axis] + g) + 0.5 * l_.step[axis];
         };
-        for (auto [slot, axis] : tape.arguments)
-            for (int k = 0; k < count; ++k) w.slots[slot][k] = centre_of(tried[std::size_t(k)], axis);
-        for (auto [slot, value] : tape.constants) std::fill_n(w.slots[slot], count, value);
-        run_lanes<double, 0>(tape.code.data(), tape.code.size(), w.slots.data(), count);
-        const double* centre = w.slots[tape.root_slot];
+        auto coordinate = [&](int k, int axis) { return centre_of(tried[std::size_t(k)], axis); };
+        const double* centre = run_at_points(tape, w.lanes, w.slots, count, coordinate);
         int found = 0;  // those on the other side, moved to the front of `tried`
         for (int k = 0; k < count; ++k) {
             const int c = tried[std::size_t(k)];
@@ -432,14 +445,10 @@ public:
         // Only a centre at least kThinDepth of a cell beyond the surface (|f| / |∇f|, in dual
         // numbers): a smooth surface's chord of the diagonal (a ball of radius 7 cells cuts
         // caps 0.01 to 0.02 cells deep) is marching tetrahedra's usual error, not a part left out.
-        bind_slots(w.dual_lanes, w.dual_slots, tape, found);
-        for (auto [slot, axis] : tape.arguments)
-            for (int k = 0; k < found; ++k) w.dual_slots[slot][k] = Dual::variable(centre_of(tried[std::size_t(k)], axis), axis);
-        for (auto [slot, value] : tape.constants) std::fill_n(w.dual_slots[slot], found, Dual(value));
-        run_lanes<Dual, 0>(tape.code.data(), tape.code.size(), w.dual_slots.data(), found);
+        const Dual* deep = run_at_points(tape, w.dual_lanes, w.dual_slots, found, coordinate);
         const double h = std::max({l_.step[0], l_.step[1], l_.step[2]});
         for (int k = 0; k < found; ++k) {
-            const Dual& f = w.dual_slots[tape.root_slot][k];
+            const Dual& f = deep[k];
             const double slope = std::hypot(f.d[0], f.d[1], f.d[2]);
             if (std::fabs(f.v) < kThinDepth * h * slope) continue;  // NaN or infinite slope: deep enough
             const int c = tried[std::size_t(k)];
@@ -569,18 +578,9 @@ public:
         }
         if (points.empty()) return 0;
         const int n = int(points.size());
-        bind_slots(lanes, slots, whole_, n);
-        for (int k = 0; k < n; ++k) {
-            const Vec p = position(points[std::size_t(k)]);
-            for (auto [slot, axis] : whole_.arguments) {
-                const double x = p[axis] + offsets[std::size_t(k)][axis] * l_.step[axis];
-                if constexpr (std::is_same_v<T, Dual>) slots[slot][k] = Dual::variable(x, axis);
-                else slots[slot][k] = x;
-            }
-        }
-        for (auto [slot, constant] : whole_.constants) std::fill_n(slots[slot], n, T(constant));
-        run_lanes<T, 0>(whole_.code.data(), whole_.code.size(), slots.data(), n);
-        const T* beside = slots[whole_.root_slot];
+        const T* beside = run_at_points(whole_, lanes, slots, n, [&](int k, int axis) {
+            return position(points[std::size_t(k)])[std::size_t(axis)] + offsets[std::size_t(k)][std::size_t(axis)] * l_.step[axis];
+        });
         for (int k = 0; k < n;) {
             T& v = values[points[std::size_t(k)]];
             if (value(v) != 0) {  // a NaN
@@ -747,13 +747,9 @@ public:
             for (std::size_t first = begin; first < end; first += kBatch) {
                 const int n = int(std::min(kBatch, end - first));
                 auto position = [&](int i) { return fine_position(fine_point(keys[first + std::size_t(i)])); };
-                bind_slots(w.lanes, w.slots, tape, n);
-                for (auto [slot, axis] : tape.arguments)
-                    for (int i = 0; i < n; ++i) w.slots[slot][i] = position(i)[std::size_t(axis)];
-                for (auto [slot, value] : tape.constants) std::fill_n(w.slots[slot], n, value);
-                run_lanes<double, 0>(tape.code.data(), tape.code.size(), w.slots.data(), n);
                 double evaluated[kBatch], value[kBatch];
-                std::copy_n(w.slots[tape.root_slot], n, evaluated);
+                std::copy_n(run_at_points(tape, w.lanes, w.slots, n, [&](int i, int axis) { return position(i)[std::size_t(axis)]; }), n,
+                            evaluated);
                 std::copy_n(evaluated, n, value);
                 w.stats.node_evaluations += std::size_t(n);
                 w.stats.node_evaluations += read_beside(value, n, w.nudged_lanes, w.nudged_slots, [](int) { return true; },

@@ -192,17 +192,24 @@ TEST_CASE("parts thinner than a cell are found by their cells' centres and meshe
         return v;
     };
     const double pi = std::acos(-1.0);
+    // The model meshed with stats, its thin cells and the first one's centre checked against
+    // the formula's count, which is returned.
+    auto mesh_counted = [&](const Model& m, const auto& f, MeshStats& stats, Mesh& mesh) {
+        mesh = extract_mesh(m.graph, m.root, grid, {}, &stats);
+        std::array<double, 3> first{};
+        const std::size_t expected = count_cells(f, first);
+        CHECK(stats.thin_cells == expected);
+        for (int a = 0; a < 3; ++a) CHECK(stats.first_thin[std::size_t(a)] == doctest::Approx(first[std::size_t(a)]).epsilon(1e-12));
+        return expected;
+    };
     SUBCASE("a disc") {
         const Model m = model_of("ARGUMENT X, Y, Z\nRETURN (0.0001 - (Z - 0.05)^2) & (0.25 - X*X - Y*Y - Z*Z)\n");
         MeshStats stats;
-        const Mesh mesh = extract_mesh(m.graph, m.root, grid, {}, &stats);
-        std::array<double, 3> first{};
-        const std::size_t expected = count_cells([&](double x, double y, double z) {
+        Mesh mesh;
+        const std::size_t expected = mesh_counted(m, [&](double x, double y, double z) {
             return r0_and(0.0001 - (z - 0.05) * (z - 0.05), 0.25 - x * x - y * y - z * z);
-        }, first);
+        }, stats, mesh);
         CHECK(expected == 80);  // the centres (x, y, 0.05) with x² + y² < 0.2475
-        CHECK(stats.thin_cells == expected);
-        for (int a = 0; a < 3; ++a) CHECK(stats.first_thin[std::size_t(a)] == doctest::Approx(first[std::size_t(a)]).epsilon(1e-12));
         // The rim's cells have no centre inside: they are reached across the refined cells' faces.
         CHECK(stats.refined_cells > expected);
         CHECK(stats.refinement_left == 0);
@@ -221,14 +228,11 @@ TEST_CASE("parts thinner than a cell are found by their cells' centres and meshe
     SUBCASE("a slit") {
         const Model m = model_of("ARGUMENT X, Y, Z\nRETURN (0.49 - X*X - Y*Y - Z*Z) & ((Z - 0.05)^2 - 0.0001)\n");
         MeshStats stats;
-        const Mesh mesh = extract_mesh(m.graph, m.root, grid, {}, &stats);
-        std::array<double, 3> first{};
-        const std::size_t expected = count_cells([&](double x, double y, double z) {
+        Mesh mesh;
+        const std::size_t expected = mesh_counted(m, [&](double x, double y, double z) {
             return r0_and(0.49 - x * x - y * y - z * z, (z - 0.05) * (z - 0.05) - 0.0001);
-        }, first);
+        }, stats, mesh);
         CHECK(expected == 128);  // 140 by the diagonal alone: 12 centres lie within a fiftieth of a cell of the surface
-        CHECK(stats.thin_cells == expected);
-        for (int a = 0; a < 3; ++a) CHECK(stats.first_thin[std::size_t(a)] == doctest::Approx(first[std::size_t(a)]).epsilon(1e-12));
         CHECK(stats.refinement_left == 0);
         // The ball cut in two: two closed pieces, each a sphere's topology, and the slit's
         // volume gone (without it the volume would be 1.43).

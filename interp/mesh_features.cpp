@@ -846,19 +846,8 @@ public:
             stats->chain_edges = chain_edges_;
             measure_crossings_left(triangles, first_redone, removed, patch_of, *stats);
         }
-        std::vector<uint32_t> renumber(positions_.size(), UINT32_MAX);
-        for (const Tri& t : triangles)
-            for (uint32_t v : t) renumber[v] = 0;
-        Mesh out;
-        for (std::size_t v = 0; v < positions_.size(); ++v) {
-            if (renumber[v] == UINT32_MAX) continue;
-            renumber[v] = uint32_t(out.vertices.size());
-            out.vertices.push_back(positions_[v]);
-            out.normals.push_back(normals_[v]);
-        }
-        for (Tri& t : triangles)
-            for (uint32_t& v : t) v = renumber[v];
-        out.triangles = std::move(triangles);
+        Mesh out{positions_, normals_, std::move(triangles)};
+        drop_unused_vertices(out);
         mesh_ = std::move(out);
         return true;
     }

@@ -949,27 +949,12 @@ public:
                 kept.push_back(mesh.triangles[t]), kept_cells.push_back(triangle_cells[t]);
         kept.insert(kept.end(), triangles.begin(), triangles.end());
         kept_cells.insert(kept_cells.end(), cells_of.begin(), cells_of.end());
-        std::vector<uint32_t> renumber(mesh.vertices.size(), UINT32_MAX);
-        for (const auto& t : kept)
-            for (uint32_t v : t) renumber[v] = 0;
-        Mesh out;
-        std::vector<uint64_t> edges;
-        out.vertices.reserve(mesh.vertices.size());
-        out.normals.reserve(mesh.vertices.size());
-        edges.reserve(mesh.vertices.size());
-        for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
-            if (renumber[v] == UINT32_MAX) continue;
-            renumber[v] = uint32_t(out.vertices.size());
-            out.vertices.push_back(mesh.vertices[v]);
-            out.normals.push_back(mesh.normals[v]);
-            edges.push_back(vertex_edges[v]);
-        }
-        vertex_edges = std::move(edges);
-        for (auto& t : kept)
-            for (uint32_t& v : t) v = renumber[v];
-        out.triangles = std::move(kept);
-        mesh = std::move(out);
+        mesh.triangles = std::move(kept);
         triangle_cells = std::move(kept_cells);
+        const std::vector<uint32_t> renumber = drop_unused_vertices(mesh);
+        for (std::size_t v = 0; v < renumber.size(); ++v)
+            if (renumber[v] != UINT32_MAX) vertex_edges[renumber[v]] = vertex_edges[v];  // renumber[v] <= v
+        vertex_edges.resize(mesh.vertices.size());
         for (const Worker& w : workers) {
             stats.node_evaluations += w.stats.node_evaluations;
             stats.edge_evaluations += w.stats.edge_evaluations;

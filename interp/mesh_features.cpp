@@ -74,6 +74,13 @@ constexpr double kMaxBandDistance = 0.25;
 /// Newton's method stops when a step is below this fraction of a cell; the point is then
 /// on the feature to round-off (quadratic convergence, one step for planes).
 constexpr double kStepTolerance = 1e-13;
+/// Halvings toward where an operand's domain ends (solve_feature): a double's 53 bits and
+/// some to spare, so the end is found to the last bit.
+constexpr int kEndBisections = 64;
+/// Newton steps past an end allowed beyond the usual 40: each leaves the point where the
+/// end cuts the step, halfway or more (for √Y, whose step from Y goes to −Y), so the other
+/// equations converge linearly there, by half a step or better.
+constexpr int kMaxEnds = 64;
 /// Operands whose gradients make less than ~11° with the span of those already chosen are
 /// not independent enough to solve for (a tangency, not an edge).
 constexpr double kIndependence = 0.2;
@@ -210,10 +217,39 @@ bool vanishes(const FeatureField& field, int e, double h) {
 bool solve_feature(FeatureField& field, const std::vector<int>& equations, int want, Vec& p, double h,
                    double reach, int plane_axis = -1, double plane = 0) {
     const Vec start = p;
-    for (int iteration = 0; iteration < 40; ++iteration) {
+    Vec before = p;                   // the last point where every chosen equation was finite
+    std::vector<int> chosen_before;
+    int ends = 0;  // steps past an end: each halves the others' residuals at least, so they get more steps
+    for (int iteration = 0; iteration < 40 + ends; ++iteration) {
         field.at(p);
+        // A step past where an equation ends (X^0.2 at X = 0, its slope infinite there, so
+        // Newton's step from X overshoots to −4X, where it is NaN): its root is that end,
+        // found by bisection between the last point it and its gradient were finite at and
+        // this one.
+        auto ended = [&](bool or_slope) {
+            for (int e : chosen_before)
+                if (!std::isfinite(field.value(e)) || (or_slope && !finite(field.gradient(e)))) return true;
+            return false;
+        };
+        if (ended(false) && ends < kMaxEnds) {
+            ++ends;
+            Vec finite_end = before, beyond = p;
+            for (int halving = 0; halving < kEndBisections; ++halving) {
+                Vec middle;
+                for (int k = 0; k < 3; ++k) middle[k] = (finite_end[k] + beyond[k]) / 2;
+                if (middle == finite_end || middle == beyond) break;
+                p = middle;
+                field.at(p);
+                (ended(true) ? beyond : finite_end) = middle;
+            }
+            p = finite_end;
+            field.at(p);
+        }
+        if (norm(sub(p, start)) > reach) return false;
+        before = p;
         std::vector<int> chosen;
         if (!choose_independent(field, equations, want, chosen)) return false;
+        chosen_before = chosen;
         std::vector<Vec> rows;
         std::vector<double> rhs;
         for (int e : chosen) rows.push_back(field.gradient(e)), rhs.push_back(field.value(e));
@@ -226,8 +262,9 @@ bool solve_feature(FeatureField& field, const std::vector<int>& equations, int w
         if (!min_norm_step(rows, rhs, step)) return false;
         for (int k = 0; k < 3; ++k) p[k] -= step[k];
         if (plane_axis >= 0) p[plane_axis] = plane;
-        if (!finite(p) || norm(sub(p, start)) > reach) return false;
+        if (!finite(p)) return false;
         if (norm(step) <= kStepTolerance * h) {
+            if (norm(sub(p, start)) > reach) return false;
             field.at(p);
             for (int e : equations)
                 if (!vanishes(field, e, h)) return false;
@@ -1431,10 +1468,31 @@ private:
     }
 
     /// The operations whose two operands both reach zero in the cell (first-order estimate).
-    std::vector<int> vanishing_operations(const Cell& cell) {
+    /// With `at_corners`, an operand also counts when the cell's corners show it reaching zero
+    /// (an exact zero, both signs, or the end of its domain: finite at some, NaN at others),
+    /// where the estimate cannot: a power below 1 at its root (X^0.2 at X = 0 estimates 5X,
+    /// its slope infinite there).
+    std::vector<int> vanishing_operations(const Cell& cell, bool at_corners = false) {
         Vec centre;
         for (int a = 0; a < 3; ++a) centre[a] = (cell.lo[a] + cell.hi[a]) / 2;
         const double half_diagonal = norm(sub(cell.hi, cell.lo)) / 2;
+        const auto& ops = field_.operations();
+        std::vector<char> by_corners;  // per operation: both operands reach zero at the corners
+        if (at_corners) {
+            std::vector<std::array<bool, 4>> seen(2 * ops.size());  // per operand: zero, +, −, NaN
+            for (int corner = 0; corner < 8; ++corner) {
+                Vec p;
+                for (int a = 0; a < 3; ++a) p[a] = corner >> a & 1 ? cell.hi[a] : cell.lo[a];
+                field_.at(p);
+                for (std::size_t k = 0; k < ops.size(); ++k)
+                    for (int side = 0; side < 2; ++side) {
+                        const double v = field_.value(side ? ops[k].b : ops[k].a);
+                        seen[2 * k + std::size_t(side)][v == 0 ? 0 : v > 0 ? 1 : v < 0 ? 2 : 3] = true;
+                    }
+            }
+            auto reaches = [](const std::array<bool, 4>& s) { return s[0] || (s[1] && s[2]) || ((s[1] || s[2]) && s[3]); };
+            for (std::size_t k = 0; k < ops.size(); ++k) by_corners.push_back(reaches(seen[2 * k]) && reaches(seen[2 * k + 1]));
+        }
         field_.at(centre);
         auto reaches_zero = [&](int i) {
             // Zero at the centre reaches zero, whatever its gradient: an R-operation's is NaN on
@@ -1445,9 +1503,8 @@ private:
             return std::isfinite(g) && std::fabs(field_.value(i)) <= kReachFactor * g * half_diagonal;
         };
         std::vector<int> out;
-        const auto& ops = field_.operations();
         for (std::size_t k = 0; k < ops.size(); ++k)
-            if (reaches_zero(ops[k].a) && reaches_zero(ops[k].b)) out.push_back(int(k));
+            if ((reaches_zero(ops[k].a) && reaches_zero(ops[k].b)) || (at_corners && by_corners[k])) out.push_back(int(k));
         return out;
     }
 
@@ -1866,7 +1923,8 @@ private:
         if (apex_.count(id) || tried_corner_.count(id)) return;
         tried_corner_.insert(id);
         const Cell cell = cell_box(id);
-        const std::vector<int> candidates = vanishing_operations(cell);
+        std::vector<int> candidates = vanishing_operations(cell);
+        if (candidates.size() < 2) candidates = vanishing_operations(cell, true);
         if (candidates.size() < 2) return;
         const auto& ops = field_.operations();
         std::vector<int> equations, later;

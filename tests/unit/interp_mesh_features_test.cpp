@@ -195,3 +195,20 @@ TEST_CASE("the Steinmetz solid's edge vertices are on both cylinders and joined 
     CHECK(to_chain_median <= 0.05 * h);  // a chord's sagitta, L² κ / 8: at most 0.043 h for L = √3 h, κ ≤ √2
     CHECK(to_mesh <= 0.2 * h);  // near (±1, 0, 0), where the curve is not traced, marching tetrahedra's cut
 }
+
+TEST_CASE("a corner where an operand's slope is infinite (a power below 1 at its root) is a mesh vertex") {
+    // RANOK's economf1_3: X^0.2 and Y^0.2 are NaN below their roots and their slopes infinite
+    // there, so the first-order estimate never reaches the root (it says 5X) and Newton's step
+    // from X overshoots to -4X. The corner is found by the cell's corners and by bisection to
+    // where the operand ends; it was fanned from a point of the edge 0.75 cells off before.
+    const Model m = model_of("ARGUMENT X, Y, Z\nRETURN (0.2*X^0.2) & (4*Y) & (2*Z+1) & (0.25*Y^0.2)\n");
+    const Grid g = cube(1, 65);
+    const double h = g.x.step();
+    MeshStats stats;
+    const Mesh mesh = extract_mesh(m.graph, m.root, g, {}, &stats);
+    check_topology(mesh, h, 2);
+    const Vec corner{0, 0, -0.5};
+    double best = 1e300;
+    for (const Vec& v : mesh.vertices) best = std::min(best, std::sqrt(dot(sub(v, corner), sub(v, corner))));
+    CHECK(best <= 1e-9);
+}

@@ -510,9 +510,10 @@ public:
     /// cells whose neighbours across that face or grid edge have none.
     void set_patch_test(std::function<bool(uint64_t)> has_patch) { has_patch_ = std::move(has_patch); }
 
-    /// The cells refined for thin parts and those joining them (sorted): their triangles are
-    /// not the lattice's cells' marching tetrahedra, so they are left as they are, and no
-    /// crossing goes on their faces.
+    /// The cells refined for thin parts (sorted): their patches are many small pieces of the
+    /// fine lattice's marching tetrahedra, not one cell's, so they are left as they are, and no
+    /// crossing goes on their faces. The cells joining them are redone like any other: their
+    /// patches meet their faces in marching-tetrahedra segments, as the lattice's cells do.
     void set_frozen(const std::vector<uint64_t>& cells, std::vector<char> triangles) {
         frozen_ = cells;
         frozen_triangles_ = std::move(triangles);

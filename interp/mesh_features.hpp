@@ -125,9 +125,9 @@ inline bool zero_inside(const double* probes) {
 /// Rewrites `mesh` (made on `grid`'s lattice; `triangle_cells[t]` the cell of triangle t,
 /// x + cells_x·(y + cells_y·z)) with vertices on the sharp features of `root`'s R-operations
 /// and of the `caps` that close it where the domain cuts it. The `frozen` cells (sorted: those
-/// the mesher refined for thin parts, and the cells joining them, mesh_refine.hpp) keep their
-/// triangles, and their faces take no crossing: the features there stay as the finer
-/// tetrahedra cut them.
+/// the mesher refined for thin parts, mesh_refine.hpp) keep their triangles, and their faces
+/// take no crossing: the features there stay as the finer tetrahedra cut them. The cells
+/// joining them (cones over their faces) are redone as the lattice's cells are.
 /// What the mesher asks of the pass before the pass changes the mesh (mesh_refine.hpp).
 struct RefineQuery {
     /// Cells whose centre is inside a part thinner than a cell (or a hole) that marching
@@ -141,8 +141,8 @@ struct RefineQuery {
     /// could not be redone). Empty: the mesh was changed.
     std::vector<uint64_t> refine;
     /// Out, with `refine`: the cells of the corners and the concave creases' bands the pass put
-    /// back, sorted; refining a cell beside them would freeze theirs (mesh_refine.hpp) and
-    /// lose them.
+    /// back, sorted; refining a cell beside them would cut theirs into cones (mesh_refine.hpp),
+    /// where the pass, run again, may not put them back.
     std::vector<uint64_t> keep;
 };
 

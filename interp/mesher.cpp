@@ -827,7 +827,8 @@ public:
 
     /// Refines the `seeds` (sorted) and the cells their thin parts go on into, but none that
     /// would change a cell of `keep` (sorted: RefineQuery), and replaces the triangles of every
-    /// cell whose tetrahedra change (returned, sorted) with marching tetrahedra on the new ones.
+    /// cell whose tetrahedra change with marching tetrahedra on the new ones. Returns the
+    /// refined cells (sorted), which the sharp-feature pass then leaves as they are.
     /// `vertex_edges`: each mesh vertex's lattice edge (weld), or UINT64_MAX, kept up to date:
     /// a second call with more seeds redoes the first's cells.
     std::vector<uint64_t> refine(const std::vector<uint64_t>& seeds, const std::vector<uint64_t>& keep, Mesh& mesh,
@@ -960,7 +961,7 @@ public:
             stats.edge_evaluations += w.stats.edge_evaluations;
             stats.crossing_edges += w.stats.crossing_edges;
         }
-        return changed;
+        return region.refined_cells();
     }
 
 private:
@@ -1160,12 +1161,12 @@ Mesh extract_mesh(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
     // edge back, and those round edges it left more than half a cell off (wedges thinner than
     // a cell that no centre fell in). They are refined and the pass runs again on the new
     // mesh, up to kRefinePasses times.
-    std::vector<uint64_t> seeds, keep, changed;
+    std::vector<uint64_t> seeds, keep, refined;
     for (int pass = 0;; ++pass) {
         RefineQuery query;
         for (const auto& [cell, inside] : thin) query.thin_cells.push_back(cell), query.thin_inside.push_back(inside);
         const bool last = !refining || pass == kRefinePasses;
-        if (sharpen_features(graph, root, grid, mesh, triangle_cells, caps, changed, stats ? &total.features : nullptr,
+        if (sharpen_features(graph, root, grid, mesh, triangle_cells, caps, refined, stats ? &total.features : nullptr,
                              last ? nullptr : &query))
             break;
         if (options.cancel && options.cancel->load()) return {};
@@ -1181,7 +1182,7 @@ Mesh extract_mesh(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
             continue;
         }
         total.refine_seeds = seeds.size();
-        changed = mesher.refine(seeds, keep, mesh, triangle_cells, vertex_edges, total, options);
+        refined = mesher.refine(seeds, keep, mesh, triangle_cells, vertex_edges, total, options);
         if (options.cancel && options.cancel->load()) return {};  // its points may be half evaluated
     }
     if (stats) *stats = total;

@@ -204,8 +204,7 @@ TEST_CASE("a corner where an operand's slope is infinite (a power below 1 at its
     const Model m = model_of("ARGUMENT X, Y, Z\nRETURN (0.2*X^0.2) & (4*Y) & (2*Z+1) & (0.25*Y^0.2)\n");
     const Grid g = cube(1, 65);
     const double h = g.x.step();
-    MeshStats stats;
-    const Mesh mesh = extract_mesh(m.graph, m.root, g, {}, &stats);
+    const Mesh mesh = extract_mesh(m.graph, m.root, g, {});
     check_topology(mesh, h, 2);
     const Vec corner{0, 0, -0.5};
     double best = 1e300;

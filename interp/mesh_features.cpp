@@ -78,8 +78,8 @@ constexpr double kStepTolerance = 1e-13;
 /// some to spare, so the end is found to the last bit.
 constexpr int kEndBisections = 64;
 /// Newton steps past an end allowed beyond the usual 40: each leaves the point where the
-/// end cuts the step, halfway or more (for √Y, whose step from Y goes to −Y), so the other
-/// equations converge linearly there, by half a step or better.
+/// end cuts the step (a fifth of it for X^0.2, whose step from X goes to −4X; half for √Y), so
+/// the other equations take only that part of their own step and converge linearly there.
 constexpr int kMaxEnds = 64;
 /// Operands whose gradients make less than ~11° with the span of those already chosen are
 /// not independent enough to solve for (a tangency, not an edge).
@@ -219,7 +219,7 @@ bool solve_feature(FeatureField& field, const std::vector<int>& equations, int w
     const Vec start = p;
     Vec before = p;                   // the last point where every chosen equation was finite
     std::vector<int> chosen_before;
-    int ends = 0;  // steps past an end: each halves the others' residuals at least, so they get more steps
+    int ends = 0;  // steps past an end: the others take part of their step only, so they get more steps
     for (int iteration = 0; iteration < 40 + ends; ++iteration) {
         field.at(p);
         // A step past where an equation ends (X^0.2 at X = 0, its slope infinite there, so

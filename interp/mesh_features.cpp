@@ -1434,14 +1434,12 @@ private:
         if (query) {
             for (std::size_t i = 0; i < query->thin_cells.size(); ++i) {
                 const uint64_t id = query->thin_cells[i];
-                const Cell cell = cell_box(id);
-                Vec centre;
-                for (int a = 0; a < 3; ++a) centre[a] = (cell.lo[a] + cell.hi[a]) / 2;
-                // Where the pass put the part's edges back, the mesh has its centre on the side
+                // Where the pass put the part's edges back, the mesh has its point on the side
                 // the field says; elsewhere marching tetrahedra's surface cuts it off.
                 bool inside = false;
                 double distance = 0;
-                if (!inside_mesh(centre, inside, distance) || (inside != bool(query->thin_inside[i]) && distance > kThinOffMesh * h))
+                if (!inside_mesh(query->thin_points[i], inside, distance) ||
+                    (inside != bool(query->thin_inside[i]) && distance > kThinOffMesh * h))
                     query->refine.push_back(id);
             }
             std::sort(query->refine.begin(), query->refine.end());
@@ -3807,8 +3805,8 @@ private:
     static constexpr std::size_t kMaxChamferRun = 4096;        ///< crossings
     static constexpr std::size_t kMaxChamferTriangles = 32;  ///< per crossing of the run
     static constexpr int kMaxChamferJoins = 16;  ///< runs joined through the crossings between them
-    /// A thin cell's centre on the wrong side of the finished mesh by more than this many
-    /// cells is off it (RefineQuery); a centre a hair across a face the pass put back is not
+    /// A thin cell's point on the wrong side of the finished mesh by more than this many
+    /// cells is off it (RefineQuery); a point a hair across a face the pass put back is not
     /// a part left out (two of new_euclid's at 65 nodes, refined for nothing without it).
     static constexpr double kThinOffMesh = 0.05;
 

@@ -130,13 +130,15 @@ inline bool zero_inside(const double* probes) {
 /// joining them (cones over their faces) are redone as the lattice's cells are.
 /// What the mesher asks of the pass before the pass changes the mesh (mesh_refine.hpp).
 struct RefineQuery {
-    /// Cells whose centre is inside a part thinner than a cell (or a hole) that marching
-    /// tetrahedra left out, sorted. Where the pass put the part's edges back, the finished mesh
-    /// has their centre on the side the field says; elsewhere it does not.
+    /// Cells with a part thinner than a cell (or a hole) in them that marching tetrahedra left
+    /// out, sorted, and a point in that part (the midpoint of a tetrahedron's edge). Where the
+    /// pass put the part's edges back, the finished mesh has that point on the side the field
+    /// says; elsewhere it does not.
     std::vector<uint64_t> thin_cells;
-    std::vector<char> thin_inside;  ///< per thin cell: its centre is inside the solid
+    std::vector<char> thin_inside;  ///< per thin cell: its point is inside the solid
+    std::vector<std::array<double, 3>> thin_points;
     /// Out: the cells to refine before the pass runs again, sorted: those thin cells whose
-    /// centre the finished mesh leaves on the wrong side, and the cells round the
+    /// point the finished mesh leaves on the wrong side, and the cells round the
     /// traced crossings more than half a cell off it (a wedge thinner than a cell whose cells
     /// could not be redone). Empty: the mesh was changed.
     std::vector<uint64_t> refine;

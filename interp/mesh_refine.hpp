@@ -3,9 +3,10 @@
 //
 // Why: marching tetrahedra see the solid only at the lattice's nodes, so a blade, a sheet or a
 // slit thinner than a cell that no node falls in is left out of the mesh, its surface a cell
-// or more from it. Where the mesher finds one (a cell whose centre is on the other side of
-// the surface from both ends of its main diagonal), the cell is cut kRefine times finer along
-// each axis, each small cube split into Kuhn's six tetrahedra as the lattice's cubes are.
+// or more from it. Where the mesher finds one (a cell with the midpoint of one of its
+// tetrahedra's edges on the other side of the surface from both ends), the cell is cut
+// kRefine times finer along each axis, each small cube split into Kuhn's six tetrahedra as
+// the lattice's cubes are.
 // Every cell that shares an edge with a refined one (a transition cell) is split into cones
 // from its centre over its faces, each face triangulated as the cell across it sees it:
 // - a face of a refined cell: the fine lattice's own split of it (small squares, each cut by

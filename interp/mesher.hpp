@@ -32,11 +32,11 @@
 // (ARCTAN(Y/X) on the Z axis) takes the field beside it, not NaN's "outside", and a zero the
 // solid only touches from inside (two parts joined on a plane) counts as inside: a node line
 // or plane of them would bore a hairline tunnel or slit through the solid.
-// A part thinner than a cell, which no node falls in, is found by cell centres on the other
-// side of the surface from both ends of their main diagonal; where the sharp-feature pass does
-// not mend it, and round edges it leaves more than half a cell off, the cells are cut four
-// times finer and joined to the lattice by transition cells (mesh_refine.hpp), keeping every
-// guarantee above.
+// A part thinner than a cell, which no node falls in, is found by the midpoints of the
+// tetrahedra's edges on the other side of the surface from both ends; where the sharp-feature
+// pass does not mend it, and round edges it leaves more than half a cell off, the cells are
+// cut four times finer and joined to the lattice by transition cells (mesh_refine.hpp),
+// keeping every guarantee above.
 #pragma once
 
 #include "interp/engine.hpp"

@@ -135,15 +135,17 @@ TEST_CASE("where the field is NaN on a grid plane or line, or zero inside the so
     }
 }
 
-TEST_CASE("parts thinner than a cell are found by their cells' centres and meshed on a finer lattice there") {
+TEST_CASE("parts thinner than a cell are found by their tetrahedra's edges and meshed on a finer lattice there") {
     // On 21 nodes over [-1, 1]^3 (cells of 0.1) the slab 0.04 < z < 0.06 holds no node but
-    // the centres of the layer of cells at z = 0.05. Cut by a ball it is a disc that marching
-    // tetrahedra on the lattice leave out, and cut from one, a slit they do not open. The
-    // expected counts come from the cells themselves, here: corners and centre against the
-    // formula (R0's a & b = a + b - √(a² + b²)): the main diagonal's ends on one side, the
-    // centre on the other (marching tetrahedra cut the diagonal where it crosses the surface)
-    // and a fiftieth of a cell or more beyond the surface to first order, |f| / |∇f| (central
-    // differences here). Refined four times, the slab holds the fine nodes at z = 0.05.
+    // the midpoints of the vertical edges and of the diagonals of the vertical faces and the
+    // cells (z = 0.05). Cut by a ball it is a disc that marching tetrahedra on the lattice leave
+    // out, and cut from one, a slit they do not open. The expected counts come from the cells
+    // themselves, here: each of the seven edges of Kuhn's tetrahedra a cell owns (from its
+    // lowest corner to each other corner) against the formula (R0's a & b = a + b - √(a² + b²)):
+    // its ends on one side, its midpoint on the other (marching tetrahedra cut an edge where it
+    // crosses the surface) and a fiftieth of a cell or more beyond the surface to first order
+    // (a twentieth off the main diagonal), |f| / |∇f| (central differences here). Refined four times, the slab holds the fine nodes
+    // at z = 0.05.
     const Grid grid = cube(1, 21);
     auto at = [](int i) { return -1 + 0.1 * i; };
     auto r0_and = [](double a, double b) { return a + b - std::sqrt(a * a + b * b); };
@@ -152,15 +154,17 @@ TEST_CASE("parts thinner than a cell are found by their cells' centres and meshe
         for (int z = 1; z < 19; ++z)  // not the cells on the domain's faces, whose nodes count as outside
             for (int y = 1; y < 19; ++y)
                 for (int x = 1; x < 19; ++x) {
-                    // The main diagonal's ends, (x, y, z) and (x + 1, y + 1, z + 1), against the centre.
-                    const bool low = f(at(x), at(y), at(z)) > 0, high = f(at(x + 1), at(y + 1), at(z + 1)) > 0;
-                    const double cx = at(x) + 0.05, cy = at(y) + 0.05, cz = at(z) + 0.05, d = 1e-6;
-                    const double centre = f(cx, cy, cz);
-                    const double slope = std::hypot(f(cx + d, cy, cz) - f(cx - d, cy, cz), f(cx, cy + d, cz) - f(cx, cy - d, cz),
-                                                    f(cx, cy, cz + d) - f(cx, cy, cz - d)) / (2 * d);
-                    if (low == high && (centre > 0) != low && std::fabs(centre) >= 0.02 * 0.1 * slope) {
-                        if (n++ == 0) first = {at(x) + 0.05, at(y) + 0.05, at(z) + 0.05};
+                    bool thin = false;
+                    for (int dir = 1; dir < 8 && !thin; ++dir) {
+                        const int dx = dir & 1, dy = dir >> 1 & 1, dz = dir >> 2;
+                        const bool low = f(at(x), at(y), at(z)) > 0, high = f(at(x + dx), at(y + dy), at(z + dz)) > 0;
+                        const double cx = at(x) + 0.05 * dx, cy = at(y) + 0.05 * dy, cz = at(z) + 0.05 * dz, d = 1e-6;
+                        const double middle = f(cx, cy, cz);
+                        const double slope = std::hypot(f(cx + d, cy, cz) - f(cx - d, cy, cz), f(cx, cy + d, cz) - f(cx, cy - d, cz),
+                                                        f(cx, cy, cz + d) - f(cx, cy, cz - d)) / (2 * d);
+                        thin = low == high && (middle > 0) != low && std::fabs(middle) >= (dir == 7 ? 0.02 : 0.05) * 0.1 * slope;
                     }
+                    if (thin && n++ == 0) first = {at(x) + 0.05, at(y) + 0.05, at(z) + 0.05};
                 }
         return n;
     };
@@ -209,8 +213,10 @@ TEST_CASE("parts thinner than a cell are found by their cells' centres and meshe
         const std::size_t expected = mesh_counted(m, [&](double x, double y, double z) {
             return r0_and(0.0001 - (z - 0.05) * (z - 0.05), 0.25 - x * x - y * y - z * z);
         }, stats, mesh);
-        CHECK(expected == 80);  // the centres (x, y, 0.05) with x² + y² < 0.2475
-        // The rim's cells have no centre inside: they are reached across the refined cells' faces.
+        // The 80 centres (x, y, 0.05) with x² + y² < 0.2475, and 6 cells beyond them on the rim
+        // with the midpoint of a vertical edge or face diagonal inside.
+        CHECK(expected == 86);
+        // The rim's other cells have no midpoint inside: they are reached across the refined cells' faces.
         CHECK(stats.refined_cells > expected);
         CHECK(stats.refinement_left == 0);
         // One closed piece, a sphere's topology, of the disc's volume: π (0.25 - 0.05²) 0.02 to
@@ -232,7 +238,9 @@ TEST_CASE("parts thinner than a cell are found by their cells' centres and meshe
         const std::size_t expected = mesh_counted(m, [&](double x, double y, double z) {
             return r0_and(0.49 - x * x - y * y - z * z, (z - 0.05) * (z - 0.05) - 0.0001);
         }, stats, mesh);
-        CHECK(expected == 128);  // 140 by the diagonal alone: 12 centres lie within a fiftieth of a cell of the surface
+        // By the centres alone 128 (140 on the other side, 12 of them within a fiftieth of a cell
+        // of the surface); with the vertical edges' and face diagonals' midpoints 147.
+        CHECK(expected == 147);
         CHECK(stats.refinement_left == 0);
         // The ball cut in two: two closed pieces, each a sphere's topology, and the slit's
         // volume gone (without it the volume would be 1.43).

@@ -236,8 +236,11 @@ inline bool on_boundary(const PointEvaluator& f, const P3& p, double h) {
 
 /// Checks `m` against the field `f` on the box [lo, hi] with cell size `h`. Points within
 /// 1.5 cells of the box's faces are left out of the distance checks (a solid the domain cuts
-/// is closed there).
-inline MeshCheck check_mesh(const CheckedMesh& m, const PointEvaluator& f, const P3& lo, const P3& hi, double h) {
+/// is closed there). The surface is sampled from a lattice of `samples` + 1 points per axis;
+/// `far`, if given, receives every surface sample more than half a cell from the mesh, with
+/// its distance.
+inline MeshCheck check_mesh(const CheckedMesh& m, const PointEvaluator& f, const P3& lo, const P3& hi, double h,
+                            int samples = 12, std::vector<std::pair<P3, double>>* far = nullptr) {
     MeshCheck r;
     r.triangles = m.triangles.size();
     std::map<std::pair<uint32_t, uint32_t>, int> directed;
@@ -337,9 +340,10 @@ inline MeshCheck check_mesh(const CheckedMesh& m, const PointEvaluator& f, const
                     }
                 }
         if (best > r.surface_to_mesh) r.surface_to_mesh = best, r.worst_surface_point = p;
+        if (far && best > 0.5 * h) far->push_back({p, best});
         ++r.samples;
     };
-    const int n = 12;
+    const int n = samples;
     auto sample = [&](int i, int j, int k) {
         return P3{lo[0] + (hi[0] - lo[0]) * (i + 0.37) / (n + 1), lo[1] + (hi[1] - lo[1]) * (j + 0.53) / (n + 1),
                   lo[2] + (hi[2] - lo[2]) * (k + 0.29) / (n + 1)};

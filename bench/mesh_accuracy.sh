@@ -12,7 +12,12 @@ size=${2:-65}
 samples=${3:-24}
 only=${4:-.}
 here=$(dirname "$0")
+# The shared folder as CMake finds it: ../shared beside the repository, else the vendored copy.
 shared=${FORTU_SHARED_DIR:-$here/../../shared}
+[ -d "$shared/data/ranok-scripts" ] || shared=$here/../tests/shared
+for tool in "$build/fortu" "$build/tests/fortu_mesh_check"; do
+    [ -x "$tool" ] || { echo "mesh_accuracy.sh: no $tool: build first (cmake --build --preset release)" >&2; exit 2; }
+done
 scratch=$(mktemp -d)
 trap 'rm -rf "$scratch"' EXIT
 echo "| model | nodes | mesh to surface | surface to mesh | topology |"

@@ -2473,7 +2473,7 @@ private:
         if (!(length > 0)) return false;
         for (double& c : normal) c /= length;
         for (const Tri& t : triangles)
-            if (!(dot(area_normal(t), normal) / 2 >= kMinChainProjectedArea * h * h) || !centroid_near_surface(t, h)) return false;
+            if (!(dot(area_normal(t), normal) / 2 >= kMinChainProjectedArea * h * h) || !triangle_near_surface(t, h)) return false;
         if (!loops_simple({poly}, normal, h)) return false;
         out.insert(out.end(), triangles.begin(), triangles.end());
         return true;
@@ -2518,8 +2518,41 @@ private:
         return c;
     }
 
-    /// Whether triangle t's centroid is within kMaxCentroidDistance cells of the surface.
-    bool centroid_near_surface(const Tri& t, double h) const { return near_surface(centroid(t), kMaxCentroidDistance * h); }
+    /// Whether triangle t is within kMaxCentroidDistance cells of the surface at its centroid
+    /// and, if an edge is longer than two cells (a triangle no one cell holds), within
+    /// kMaxBandDistance along its normal at its edges' midpoints and halfway from the centroid
+    /// to each vertex: a triangle cells long bridges a face that curves under it (Tor1 at 65
+    /// nodes: a fan four cells long over its twisted tube, 0.54 cells from the surface in its
+    /// middle, its centroid within the bound). Along the normal, by the field's sign, not to
+    /// first order: |f| / |∇f| is three times the distance inside an acute R0 wedge, whose
+    /// chamfers (the FLOZ3 plate's 39° edge) are within the bound.
+    bool triangle_near_surface(const Tri& t, double h) const {
+        const Vec c = centroid(t);
+        if (!near_surface(c, kMaxCentroidDistance * h)) return false;
+        const Vec &p = positions_[t[0]], &q = positions_[t[1]], &r = positions_[t[2]];
+        if (std::max({norm(sub(p, q)), norm(sub(q, r)), norm(sub(r, p))}) <= 2 * h) return true;
+        Vec normal = area_normal(t);
+        const double length = norm(normal);
+        if (!(length > 0)) return false;
+        for (double& x : normal) x /= length;
+        auto middle = [](const Vec& a, const Vec& b) { return Vec{(a[0] + b[0]) / 2, (a[1] + b[1]) / 2, (a[2] + b[2]) / 2}; };
+        for (const Vec& x : {middle(p, q), middle(q, r), middle(r, p), middle(c, p), middle(c, q), middle(c, r)})
+            if (!surface_along(x, normal, kMaxBandDistance * h)) return false;
+        return true;
+    }
+
+    /// Whether the surface is within `reach` of p along the unit vector n: the field's sign
+    /// differs among p − reach·n, p and p + reach·n, or p is on it (zero, as on an edge where
+    /// the gradient is NaN, or within round-off to first order).
+    bool surface_along(const Vec& p, const Vec& n, double reach) const {
+        auto value = [&](double s) {
+            field_.at(Vec{p[0] + s * n[0], p[1] + s * n[1], p[2] + s * n[2]});
+            return field_.value(0);
+        };
+        const double below = value(-reach), above = value(reach), at = value(0);
+        if ((below > 0) != (above > 0) || (at > 0) != (above > 0) || at == 0) return true;
+        return std::fabs(at) <= 1e-9 * reach * norm(field_.gradient(0));
+    }
 
     /// The vertices projected onto the plane across the unit vector `normal`.
     std::vector<std::array<double, 2>> projected(const std::vector<uint32_t>& vertices, const Vec& normal) const {

@@ -70,6 +70,7 @@ constexpr double kMaxCentroidDistance = 0.5;
 /// The same for a band's strips (build_band), at their centroids and edge midpoints, in
 /// cells: half the bound above, as the first-order estimate falls short of the distance
 /// where the surface curves (the pawn's collar at 41 nodes: 0.5 estimated, 0.516 measured).
+/// Also the middle of a joined triangle longer than two cells (triangle_near_surface).
 constexpr double kMaxBandDistance = 0.25;
 /// Newton's method stops when a step is below this fraction of a cell; the point is then
 /// on the feature to round-off (quadratic convergence, one step for planes).

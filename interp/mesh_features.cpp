@@ -43,6 +43,7 @@ Vec cross(const Vec& a, const Vec& b) {
     return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
 double norm(const Vec& a) { return std::sqrt(dot(a, a)); }
+Vec midpoint(const Vec& a, const Vec& b) { return {(a[0] + b[0]) / 2, (a[1] + b[1]) / 2, (a[2] + b[2]) / 2}; }
 bool finite(const Vec& a) { return std::isfinite(a[0]) && std::isfinite(a[1]) && std::isfinite(a[2]); }
 
 /// A cell is tested when two of its vertex normals are more than ~26° apart: at 128 cells a
@@ -236,8 +237,7 @@ bool solve_feature(FeatureField& field, const std::vector<int>& equations, int w
             ++ends;
             Vec finite_end = before, beyond = p;
             for (int halving = 0; halving < kEndBisections; ++halving) {
-                Vec middle;
-                for (int k = 0; k < 3; ++k) middle[k] = (finite_end[k] + beyond[k]) / 2;
+                const Vec middle = midpoint(finite_end, beyond);
                 if (middle == finite_end || middle == beyond) break;
                 p = middle;
                 field.at(p);
@@ -1356,7 +1356,7 @@ private:
         std::vector<Vec> left;
         for (const Crossing& c : crossings_)
             if (!used[c.vertex]) left.push_back(positions_[c.vertex]);
-        if (left.empty() && (!query || query->thin_cells.empty())) return;
+        if (left.empty() && (!query || query->thin.empty())) return;
         std::unordered_map<uint64_t, std::vector<uint32_t>> redone;  // a cell → the redone triangles meeting it
         for (std::size_t t = first_redone; t < triangles.size(); ++t) {
             const Vec &p = positions_[triangles[t][0]], &q = positions_[triangles[t][1]], &r = positions_[triangles[t][2]];
@@ -1433,15 +1433,13 @@ private:
             return true;
         };
         if (query) {
-            for (std::size_t i = 0; i < query->thin_cells.size(); ++i) {
-                const uint64_t id = query->thin_cells[i];
+            for (const ThinPart& part : query->thin) {
                 // Where the pass put the part's edges back, the mesh has its point on the side
                 // the field says; elsewhere marching tetrahedra's surface cuts it off.
                 bool inside = false;
                 double distance = 0;
-                if (!inside_mesh(query->thin_points[i], inside, distance) ||
-                    (inside != bool(query->thin_inside[i]) && distance > kThinOffMesh * h))
-                    query->refine.push_back(id);
+                if (!inside_mesh(part.point, inside, distance) || (inside != part.inside && distance > kThinOffMesh * h))
+                    query->refine.push_back(part.cell);
             }
             std::sort(query->refine.begin(), query->refine.end());
             query->refine.erase(std::unique(query->refine.begin(), query->refine.end()), query->refine.end());
@@ -2536,8 +2534,7 @@ private:
         const double length = norm(normal);
         if (!(length > 0)) return false;
         for (double& x : normal) x /= length;
-        auto middle = [](const Vec& a, const Vec& b) { return Vec{(a[0] + b[0]) / 2, (a[1] + b[1]) / 2, (a[2] + b[2]) / 2}; };
-        for (const Vec& x : {middle(p, q), middle(q, r), middle(r, p), middle(c, p), middle(c, q), middle(c, r)})
+        for (const Vec& x : {midpoint(p, q), midpoint(q, r), midpoint(r, p), midpoint(c, p), midpoint(c, q), midpoint(c, r)})
             if (!surface_along(x, normal, kMaxBandDistance * h)) return false;
         return true;
     }
@@ -3470,7 +3467,7 @@ private:
             const auto [it, fresh] = midpoints.try_emplace(uint64_t(std::min(x, y)) << 32 | std::max(x, y), false);
             if (fresh) {
                 const Vec &p = positions_[x], &q = positions_[y];
-                it->second = near_surface(Vec{(p[0] + q[0]) / 2, (p[1] + q[1]) / 2, (p[2] + q[2]) / 2}, kMaxBandDistance * h);
+                it->second = near_surface(midpoint(p, q), kMaxBandDistance * h);
             }
             if (!it->second) return inf;
         }
@@ -3898,7 +3895,7 @@ bool sharpen_features(const ir::Graph& graph, ir::NodeId root, const Grid& grid,
         })) {
         if (stats) *stats = local;
         // No edges to put back: every thin cell is refined.
-        if (query) query->refine = query->thin_cells;
+        if (query) query->refine = query->thin_cells();
         return !query || query->refine.empty();
     }
     // The solid the mesh closes is the model's cut by its caps' planes: those planes are
@@ -3954,7 +3951,7 @@ bool sharpen_features(const ir::Graph& graph, ir::NodeId root, const Grid& grid,
         builder.build(patch_of);
         if (!builder.finish(patch_of, stats ? &local : nullptr, query)) return false;
     } else if (query) {
-        query->refine = query->thin_cells;
+        query->refine = query->thin_cells();
         if (!query->refine.empty()) return false;
     }
     if (stats) *stats = local;

@@ -128,15 +128,27 @@ inline bool zero_inside(const double* probes) {
 /// the mesher refined for thin parts, mesh_refine.hpp) keep their triangles, and their faces
 /// take no crossing: the features there stay as the finer tetrahedra cut them. The cells
 /// joining them (cones over their faces) are redone as the lattice's cells are.
+/// A cell with a part thinner than a cell (or a hole) in it that marching tetrahedra left out,
+/// by lattice index, and a point in that part (the midpoint of a tetrahedron's edge, the
+/// mesher's find_thin_cells): inside the solid, or not.
+struct ThinPart {
+    uint64_t cell;
+    bool inside;
+    std::array<double, 3> point;
+    bool operator<(const ThinPart& other) const { return cell < other.cell; }
+};
+
 /// What the mesher asks of the pass before the pass changes the mesh (mesh_refine.hpp).
 struct RefineQuery {
-    /// Cells with a part thinner than a cell (or a hole) in them that marching tetrahedra left
-    /// out, sorted, and a point in that part (the midpoint of a tetrahedron's edge). Where the
-    /// pass put the part's edges back, the finished mesh has that point on the side the field
-    /// says; elsewhere it does not.
-    std::vector<uint64_t> thin_cells;
-    std::vector<char> thin_inside;  ///< per thin cell: its point is inside the solid
-    std::vector<std::array<double, 3>> thin_points;
+    /// The thin parts, sorted by cell. Where the pass put a part's edges back, the finished
+    /// mesh has its point on the side the field says; elsewhere it does not.
+    std::vector<ThinPart> thin;
+    /// Their cells, sorted.
+    std::vector<uint64_t> thin_cells() const {
+        std::vector<uint64_t> cells;
+        for (const ThinPart& part : thin) cells.push_back(part.cell);
+        return cells;
+    }
     /// Out: the cells to refine before the pass runs again, sorted: those thin cells whose
     /// point the finished mesh leaves on the wrong side, and the cells round the
     /// traced crossings more than half a cell off it (a wedge thinner than a cell whose cells

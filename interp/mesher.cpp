@@ -163,15 +163,6 @@ struct Lattice {
     double at(int axis, int i) const { return min[axis] + i * step[axis]; }
 };
 
-/// A cell with a part thinner than a cell (or a hole) in it, by lattice index, and the midpoint
-/// of a tetrahedron's edge (find_thin_cells) in that part: inside the solid, or not.
-struct ThinPart {
-    uint64_t cell;
-    bool inside;
-    Vec point;
-    bool operator<(const ThinPart& other) const { return cell < other.cell; }
-};
-
 /// Scratch reused by one worker from leaf to leaf.
 struct Worker {
     std::vector<Interval> ranges;
@@ -1203,11 +1194,7 @@ Mesh extract_mesh(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
     std::vector<uint64_t> seeds, keep, refined;
     for (int pass = 0;; ++pass) {
         RefineQuery query;
-        for (const ThinPart& part : thin) {
-            query.thin_cells.push_back(part.cell);
-            query.thin_inside.push_back(part.inside);
-            query.thin_points.push_back(part.point);
-        }
+        query.thin = thin;
         const bool last = !refining || pass == kRefinePasses;
         if (sharpen_features(graph, root, grid, mesh, triangle_cells, caps, refined, stats ? &total.features : nullptr,
                              last ? nullptr : &query))

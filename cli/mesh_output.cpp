@@ -83,6 +83,8 @@ int run_mesh_output(const Model& model, const Grid& grid, const CliOptions& o, d
         "into: {} cells {} times finer, {} joining them, {} left out\n"
         "sharp features: {} cells tested, {} vertices on edges, {} at corners, {} mesh edges along them, "
         "{} edge crossings off the mesh{}\n"
+        "surface probes: {} points projected, {} more than {} cells from the mesh: {} put in, {} covered by those, "
+        "{} refused{}\n"
         "time: compile {:.3f} s, mesh {:.3f} s, write {:.3f} s\n"
         "peak memory: {} meshing, {} in all\n",
         shown_script_name(o.positional[0]), mesh.triangles.size(), mesh.vertices.size(), grid.cols(), grid.rows(),
@@ -93,7 +95,9 @@ int run_mesh_output(const Model& model, const Grid& grid, const CliOptions& o, d
         stats.refine_seeds, stats.refined_cells, kRefine, stats.transition_cells, stats.refinement_left,
         stats.features.cells_tested,
         stats.features.edge_vertices, stats.features.corner_vertices, stats.features.chain_edges,
-        stats.features.crossings_off_mesh, farthest_off(stats.features), compile_seconds,
+        stats.features.crossings_off_mesh, farthest_off(stats.features), stats.cover.probes, stats.cover.far,
+        kCoverDistance, stats.cover.inserted, stats.cover.covered, stats.cover.refused,
+        stats.cover.refused ? fmt::format(" (the farthest {:.3f} cells)", stats.cover.farthest_left) : "", compile_seconds,
         mesh_seconds, write_seconds, format_bytes(mesh_peak), format_bytes(peak_rss_bytes()));
     return 0;
 }

@@ -5,6 +5,7 @@
 #include "interp/box_simplify.hpp"
 #include "interp/interval.hpp"
 #include "interp/mesh_features.hpp"
+#include "interp/mesh_cover.hpp"
 #include "interp/mesh_refine.hpp"
 #include "interp/lane_kernel.hpp"
 #include "interp/parallel.hpp"
@@ -1215,6 +1216,9 @@ Mesh extract_mesh(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
         refined = mesher.refine(seeds, keep, mesh, triangle_cells, vertex_edges, total, options);
         if (options.cancel && options.cancel->load()) return {};  // its points may be half evaluated
     }
+    // Last, on the finished mesh: the surface it passes far from (mesh_cover.hpp).
+    cover_surface(graph, root, grid, mesh, options, &total.cover);
+    if (options.cancel && options.cancel->load()) return {};
     if (stats) *stats = total;
     return mesh;
 }

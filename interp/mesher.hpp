@@ -36,11 +36,15 @@
 // tetrahedra's edges on the other side of the surface from both ends; where the sharp-feature
 // pass does not mend it, and round edges it leaves more than half a cell off, the cells are
 // cut four times finer and joined to the lattice by transition cells (mesh_refine.hpp),
-// keeping every guarantee above.
+// keeping every guarantee above. Last, points of the surface the mesh passes more than 0.4
+// cells from, found by Newton round its bent parts as the tests' independent check finds
+// them, become vertices splitting a triangle near them, where the split keeps those
+// guarantees (mesh_cover.hpp).
 #pragma once
 
 #include "interp/engine.hpp"
 #include "interp/ir/ir.hpp"
+#include "interp/mesh_cover.hpp"
 #include "interp/mesh_features.hpp"
 #include "runtime/grid.hpp"
 #include "runtime/mesh.hpp"
@@ -74,6 +78,7 @@ struct MeshStats {
     std::size_t refinement_left = 0;
     std::array<double, 3> first_left{};  ///< the centre of the one with the lowest cell index
     FeatureStats features;            ///< the sharp features put back (mesh_features.hpp)
+    CoverStats cover;                 ///< surface points far from the mesh put in (mesh_cover.hpp)
 };
 
 /// The closed mesh of `root`'s zero surface on `grid` (3D, at least 2 nodes per axis; its

@@ -5,6 +5,8 @@
 #include "interp_test_support.hpp"
 
 #include "interp/mesher.hpp"
+#include "interp/voxel_engine.hpp"
+#include "runtime/mesh_compare.hpp"
 
 #include <doctest/doctest.h>
 
@@ -252,6 +254,41 @@ TEST_CASE("parts thinner than a cell are found by their tetrahedra's edges and m
         CHECK(volume(mesh) == doctest::Approx(4 * pi * 0.343 / 3 - cap).epsilon(0.01));
         // Without stats asked for, the mesh is the same.
         CHECK(extract_mesh(m.graph, m.root, grid).triangles == mesh.triangles);
+    }
+}
+
+TEST_CASE("a spike's tip that marching tetrahedra cut off is put back by a vertex on the surface") {
+    // A cone 8.5° wide at its apex (0.013, 0.021, 0.37), off the lattice of 25 nodes (cells of
+    // 1/12): its last 20 cells are thinner than a cell, and no node or midpoint falls in its
+    // tip, so marching tetrahedra stop 1.96 cells below the apex. The probes round the cap's
+    // bent triangles find the surface there more than 0.4 cells from the mesh and put it in.
+    const Model m = model_of("ARGUMENT X, Y, Z\nVARIABLE R = SQRT((X - 0.013) * (X - 0.013) + (Y - 0.021) * (Y - 0.021))\n"
+                             "RETURN ((0.37 - Z) * 0.15 - R) & (Z + 0.5)\n");
+    const Grid grid = cube(1, 25);
+    const double h = 2.0 / 24;
+    for (int threads : {1, 2}) {
+        CAPTURE(threads);
+        EvalOptions options;
+        options.threads = threads;
+        MeshStats stats;
+        const Mesh mesh = extract_mesh(m.graph, m.root, grid, options, &stats);
+        CHECK(open_edges(mesh) == 0);
+        CHECK(stats.cover.far >= 1);
+        CHECK(stats.cover.inserted >= 1);
+        CHECK(stats.cover.refused == 0);
+        double apex = INFINITY;
+        for (const auto& t : mesh.triangles)
+            apex = std::min(apex, point_triangle_distance({0.013, 0.021, 0.37}, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]));
+        CHECK(apex < 0.5 * h);
+        // The new vertices (the last ones) are on the surface to round-off, with the field's
+        // outward normal.
+        const PointEvaluator field(m.graph, m.root);
+        for (std::size_t v = mesh.vertices.size() - stats.cover.inserted; v < mesh.vertices.size(); ++v) {
+            const PointValue at = field(mesh.vertices[v]);
+            CHECK(std::fabs(at.value) < 1e-12);
+            const double g = std::hypot(at.gradient[0], at.gradient[1], at.gradient[2]);
+            for (int k = 0; k < 3; ++k) CHECK(mesh.normals[v][std::size_t(k)] == doctest::Approx(-at.gradient[std::size_t(k)] / g).epsilon(1e-9));
+        }
     }
 }
 

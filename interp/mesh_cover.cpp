@@ -1,0 +1,595 @@
+// interp/mesh_cover.cpp — surface points far from the mesh found by Newton and put in as
+// vertices (the why is in mesh_cover.hpp).
+#include "interp/mesh_cover.hpp"
+
+#include "interp/lane_kernel.hpp"
+#include "interp/parallel.hpp"
+#include "interp/tape.hpp"
+#include "runtime/mesh_compare.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <optional>
+#include <unordered_map>
+#include <vector>
+
+namespace fortu {
+namespace {
+
+using Vec = std::array<double, 3>;
+
+/// The cells round a triangle whose vertices' normals (the field's exact gradients) are more
+/// than 90° apart are probed: a cap across a blade or a tip, whose two sides face away from
+/// each other, a fold, a sharp edge. A smooth part's normals differ little in a cell, and
+/// its chords are marching tetrahedra's usual error. (At 26°, or round triangles longer than
+/// 1.5 cells too, the probes found nothing more on the RANOK scripts, at 8 times the cost on
+/// bear.vm.)
+constexpr double kBentCosine = 0.0;
+/// Newton steps at most a quarter cell (it follows the gradient to the near surface, not a
+/// far zero where the slope is small), at most this many, and not farther than two cells
+/// from the probe's start (that part of the surface is another probe's).
+constexpr double kMaxStep = 0.25;
+constexpr int kNewtonSteps = 60;
+constexpr double kMaxTravel = 2.0;
+/// Probes start on a half-cell lattice (the nodes and centres alone leave gaps: Tor1 at 41
+/// nodes 0.67 cells), so each point of the surface has one within √3/4 of a cell; those whose
+/// first-order distance to it is more than this many cells go no further (at 0.5 new_Chainik
+/// at 65 nodes kept a sample 0.515 cells off; at 2, bear.vm's probes cost 3 times as much).
+constexpr double kProbeReach = 0.75;
+/// A probe within this many cells of the surface (to first order) is measured against the
+/// mesh before it goes on.
+constexpr double kFirstOrder = 0.1;
+/// A new triangle's area, in cell², at least (the feature pass's bound, mesh_features.cpp).
+constexpr double kMinArea = 1e-5;
+/// Triangles near a far point tried for a split, nearest first (2 left Tor1 at 41 nodes 0.60
+/// cells off).
+constexpr int kSplitCandidates = 8;
+
+Vec sub(const Vec& a, const Vec& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+Vec add(const Vec& a, const Vec& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
+Vec scale(const Vec& a, double s) { return {a[0] * s, a[1] * s, a[2] * s}; }
+double dot(const Vec& a, const Vec& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+Vec cross(const Vec& a, const Vec& b) {
+    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+double norm(const Vec& a) { return std::sqrt(dot(a, a)); }
+bool finite(const Vec& a) { return std::isfinite(a[0]) && std::isfinite(a[1]) && std::isfinite(a[2]); }
+
+/// Whether segment pq passes through the inside of triangle abc (strictly, beyond `eps` of
+/// volume).
+bool segment_through_triangle(const Vec& p, const Vec& q, const Vec& a, const Vec& b, const Vec& c, double eps) {
+    auto orient = [&](const Vec& w, const Vec& x, const Vec& y, const Vec& z) {
+        const double v = dot(sub(x, w), cross(sub(y, w), sub(z, w)));
+        return v > eps ? 1 : v < -eps ? -1 : 0;
+    };
+    const int s1 = orient(a, b, c, p), s2 = orient(a, b, c, q);
+    if (s1 * s2 > 0) return false;
+    if (s1 == 0 && s2 == 0) return false;  // coplanar: left to the shared-edge fold test
+    const int u = orient(p, q, a, b), v = orient(p, q, b, c), w = orient(p, q, c, a);
+    return (u >= 0 && v >= 0 && w >= 0) || (u <= 0 && v <= 0 && w <= 0);
+}
+
+/// The model's values and exact gradients at a batch of points (dual numbers, a lane each:
+/// the tape is read once per batch, not once per point).
+class GradientField {
+public:
+    explicit GradientField(const Tape& tape) : tape_(tape) {}
+    /// Evaluates at `points`; value(k) and gradient(k) read point k's.
+    void at(const std::vector<Vec>& points) {
+        const std::size_t n = std::max<std::size_t>(points.size(), 1);
+        if (lanes_.size() < std::size_t(tape_.slot_count) * n) lanes_.assign(std::size_t(tape_.slot_count) * n, ir::Dual(0.0));
+        slots_.resize(tape_.slot_count);
+        for (uint32_t s = 0; s < tape_.slot_count; ++s) slots_[s] = lanes_.data() + std::size_t(s) * n;
+        std::fill_n(slots_[0], n, ir::Dual(0.0));  // the zero slot unused operands read
+        for (auto [slot, axis] : tape_.arguments)
+            for (std::size_t k = 0; k < points.size(); ++k) slots_[slot][k] = ir::Dual::variable(points[k][axis], axis);
+        for (auto [slot, value] : tape_.constants) std::fill_n(slots_[slot], n, ir::Dual(value));
+        run_lanes<ir::Dual, 0>(tape_.code.data(), tape_.code.size(), slots_.data(), int(points.size()));
+        root_ = slots_[tape_.root_slot];
+    }
+    /// The values alone at `points` (plain doubles: about a quarter of the cost), in order.
+    const double* values(const std::vector<Vec>& points) {
+        const std::size_t n = std::max<std::size_t>(points.size(), 1);
+        if (plain_.size() < std::size_t(tape_.slot_count) * n) plain_.assign(std::size_t(tape_.slot_count) * n, 0.0);
+        plain_slots_.resize(tape_.slot_count);
+        for (uint32_t s = 0; s < tape_.slot_count; ++s) plain_slots_[s] = plain_.data() + std::size_t(s) * n;
+        std::fill_n(plain_slots_[0], n, 0.0);
+        for (auto [slot, axis] : tape_.arguments)
+            for (std::size_t k = 0; k < points.size(); ++k) plain_slots_[slot][k] = points[k][axis];
+        for (auto [slot, value] : tape_.constants) std::fill_n(plain_slots_[slot], n, value);
+        run_lanes<double, 0>(tape_.code.data(), tape_.code.size(), plain_slots_.data(), int(points.size()));
+        return plain_slots_[tape_.root_slot];
+    }
+    double value(std::size_t k) const { return root_[k].v; }
+    Vec gradient(std::size_t k) const { return {root_[k].d[0], root_[k].d[1], root_[k].d[2]}; }
+    /// At one point.
+    double at(const Vec& p, Vec& gradient) {
+        at(std::vector<Vec>{p});
+        gradient = this->gradient(0);
+        return value(0);
+    }
+
+private:
+    const Tape& tape_;
+    std::vector<ir::Dual> lanes_;
+    std::vector<ir::Dual*> slots_;
+    const ir::Dual* root_ = nullptr;
+    std::vector<double> plain_;
+    std::vector<double*> plain_slots_;
+};
+
+struct FarPoint {
+    Vec point;
+    double distance;  ///< to the mesh when found, in model units
+};
+
+class Cover {
+public:
+    Cover(const Tape& tape, const Grid& grid, Mesh& mesh) : field_(tape), mesh_(mesh) {
+        const Axis* axes[3] = {&grid.x, &grid.y, &grid.z};
+        for (int a = 0; a < 3; ++a) {
+            min_[a] = axes[a]->min;
+            max_[a] = axes[a]->max;
+            step_[a] = axes[a]->step();
+            cells_[a] = axes[a]->nodes - 1;
+        }
+        h_ = std::max({step_[0], step_[1], step_[2]});
+        // The probed cells, and round them the cells a probe may land in or measure from
+        // (two cells of travel, one of reach): only triangles there are looked up.
+        for (uint32_t t = 0; t < mesh_.triangles.size(); ++t) {
+            if (!bent(t)) continue;
+            std::array<int64_t, 3> lo, hi;
+            cell_range(t, lo, hi, 0);
+            for (int64_t z = lo[2]; z <= hi[2]; ++z)
+                for (int64_t y = lo[1]; y <= hi[1]; ++y)
+                    for (int64_t x = lo[0]; x <= hi[0]; ++x) probed_.push_back(key({x, y, z}));
+        }
+        probed_ = grown(std::move(probed_), 1);
+        if (probed_.empty()) return;
+        region_ = grown(probed_, 3);
+        for (uint32_t t = 0; t < mesh_.triangles.size(); ++t) bucket(t);
+    }
+
+    double h() const { return h_; }
+    double step(int axis) const { return step_[axis]; }
+
+    /// The probes' starts: the 27 points of the half-cell lattice in each probed cell, in
+    /// half-cell integer coordinates, sorted.
+    std::vector<std::array<int64_t, 3>> probe_starts() const {
+        std::vector<std::array<int64_t, 3>> starts;
+        for (uint64_t cell : probed_) {
+            const std::array<int64_t, 3> c = coords(cell);
+            for (int k = 0; k < 27; ++k) starts.push_back({2 * c[0] + k % 3, 2 * c[1] + k / 3 % 3, 2 * c[2] + k / 9});
+        }
+        std::sort(starts.begin(), starts.end());
+        starts.erase(std::unique(starts.begin(), starts.end()), starts.end());
+        return starts;
+    }
+
+    Vec position(const std::array<int64_t, 3>& half) const {
+        return {min_[0] + double(half[0]) * step_[0] / 2, min_[1] + double(half[1]) * step_[1] / 2,
+                min_[2] + double(half[2]) * step_[2] / 2};
+    }
+
+    /// Newton from each of `points` onto the boundary of the solid (where the field changes
+    /// sign), at most `travel` from where it starts; none where it does not converge. The
+    /// points go on together, a batch of lanes. With `covered`, a point stops as soon as
+    /// covered(p, r) says the surface within r of p (to first order) is near the mesh: most
+    /// probes land where the mesh is, and two steps tell.
+    template <class Covered>
+    static std::vector<std::optional<Vec>> project(GradientField& field, std::vector<Vec> points, double h, double reach,
+                                                   double travel, Covered&& covered) {
+        std::vector<std::optional<Vec>> out(points.size());
+        const std::vector<Vec> start = points;
+        std::vector<std::size_t> active(points.size()), landed;
+        for (std::size_t k = 0; k < active.size(); ++k) active[k] = k;
+        std::vector<Vec> at;
+        for (int i = 0; i < kNewtonSteps && !active.empty(); ++i) {
+            at.clear();
+            for (std::size_t k : active) at.push_back(points[k]);
+            field.at(at);
+            std::vector<std::size_t> next;
+            for (std::size_t j = 0; j < active.size(); ++j) {
+                const std::size_t k = active[j];
+                const double v = field.value(j);
+                const Vec g = field.gradient(j);
+                const double g2 = dot(g, g);
+                if (!std::isfinite(v) || !(g2 > 0) || !std::isfinite(g2)) continue;
+                double s = v / g2;
+                const double length = std::fabs(s) * std::sqrt(g2);
+                if (i == 0 && length > reach) continue;
+                if (length < kFirstOrder * h && covered(points[k], length)) continue;
+                if (length > kMaxStep * h) s *= kMaxStep * h / length;
+                points[k] = sub(points[k], scale(g, s));
+                if (norm(sub(points[k], start[k])) > travel) continue;
+                if (length < 1e-9 * h) {
+                    out[k] = scale(g, 1e-6 * h / std::sqrt(g2));  // for the boundary test below
+                    landed.push_back(k);
+                } else {
+                    next.push_back(k);
+                }
+            }
+            active = std::move(next);
+        }
+        // On the boundary: both signs within a millionth of a cell along the gradient (not a
+        // zero the field only touches).
+        at.clear();
+        for (std::size_t k : landed) at.push_back(add(points[k], *out[k])), at.push_back(sub(points[k], *out[k]));
+        if (!landed.empty()) field.at(at);
+        for (std::size_t j = 0; j < landed.size(); ++j) {
+            const std::size_t k = landed[j];
+            if ((field.value(2 * j) > 0) == (field.value(2 * j + 1) > 0)) out[k].reset();
+            else out[k] = points[k];
+        }
+        return out;
+    }
+
+    /// Whether p is at least 1.5 cells inside the domain (the mesh closes a solid the domain
+    /// cuts on its outer nodes, which is not the surface).
+    bool interior(const Vec& p) const {
+        for (int a = 0; a < 3; ++a)
+            if (p[a] < min_[a] + 1.5 * step_[a] || p[a] > max_[a] - 1.5 * step_[a]) return false;
+        return true;
+    }
+
+    /// The distance from p to the mesh, if a triangle is within a cell of it; else infinity.
+    /// With `enough`, any distance below it may be returned as soon as one is found (p's own
+    /// cell first).
+    double distance(const Vec& p, double enough = 0) const {
+        double best = INFINITY;
+        for_each_near(
+            p, [&] { return best; },
+            [&](uint32_t, double d) {
+                best = std::min(best, d);
+                return best >= enough;
+            });
+        return best;
+    }
+
+    /// Puts p into the mesh by splitting a triangle near it into three round it; false when no
+    /// split is valid. (Not an edge with the triangle across it: that never helped on the
+    /// RANOK scripts, and it would take a sharp feature's mesh edge off the mesh.)
+    bool insert(const Vec& p) {
+        std::vector<std::pair<double, uint32_t>> near;
+        for_each_near(
+            p, [] { return INFINITY; },
+            [&](uint32_t t, double d) {
+                near.push_back({d, t});
+                return true;
+            });
+        std::sort(near.begin(), near.end());
+        near.erase(std::unique(near.begin(), near.end()), near.end());
+        near.resize(std::min<std::size_t>(near.size(), kSplitCandidates));
+        Vec normal;
+        field_.at(p, normal);
+        normal = scale(normal, -1 / norm(normal));  // outward
+        for (const auto& [distance, t] : near)
+            if (split_face(t, p, normal)) return true;
+        return false;
+    }
+
+private:
+    uint64_t key(const std::array<int64_t, 3>& c) const {
+        return uint64_t(c[0]) + uint64_t(cells_[0]) * (uint64_t(c[1]) + uint64_t(cells_[1]) * uint64_t(c[2]));
+    }
+    std::array<int64_t, 3> coords(uint64_t cell) const {
+        return {int64_t(cell % uint64_t(cells_[0])), int64_t(cell / uint64_t(cells_[0]) % uint64_t(cells_[1])),
+                int64_t(cell / (uint64_t(cells_[0]) * uint64_t(cells_[1])))};
+    }
+    bool inside_lattice(const std::array<int64_t, 3>& c) const {
+        for (int a = 0; a < 3; ++a)
+            if (c[a] < 0 || c[a] >= cells_[a]) return false;
+        return true;
+    }
+    int64_t axis_cell(double v, int a) const {
+        const double f = std::floor((v - min_[a]) / step_[a]);
+        return std::clamp<int64_t>(std::isfinite(f) ? int64_t(std::clamp(f, -1.0, double(cells_[a]))) : 0, 0, cells_[a] - 1);
+    }
+    std::array<int64_t, 3> cell_of(const Vec& p) const { return {axis_cell(p[0], 0), axis_cell(p[1], 1), axis_cell(p[2], 2)}; }
+
+    /// The cells triangle t's bounding box meets, grown by `grow` cells, clamped to the lattice.
+    void cell_range(uint32_t t, std::array<int64_t, 3>& lo, std::array<int64_t, 3>& hi, int grow) const {
+        const auto& tri = mesh_.triangles[t];
+        for (int a = 0; a < 3; ++a) {
+            double l = INFINITY, u = -INFINITY;
+            for (uint32_t v : tri) l = std::min(l, mesh_.vertices[v][a]), u = std::max(u, mesh_.vertices[v][a]);
+            lo[a] = std::max<int64_t>(axis_cell(l, a) - grow, 0);
+            hi[a] = std::min<int64_t>(axis_cell(u, a) + grow, cells_[a] - 1);
+        }
+    }
+    /// Calls visit(t, distance from p) for the triangles filed in p's cell (first) and the 26
+    /// round it whose bounding box is nearer than bound() (a triangle filed in several cells
+    /// comes again), until visit returns false.
+    template <class Bound, class Visit>
+    void for_each_near(const Vec& p, Bound&& bound, Visit&& visit) const {
+        const std::array<int64_t, 3> c = cell_of(p);
+        for (int k = 0; k < 27; ++k) {
+            const int o = k == 0 ? 13 : k <= 13 ? k - 1 : k;
+            const std::array<int64_t, 3> at{c[0] + o % 3 - 1, c[1] + o / 3 % 3 - 1, c[2] + o / 9 - 1};
+            if (!inside_lattice(at)) continue;
+            const auto it = buckets_.find(key(at));
+            if (it == buckets_.end()) continue;
+            for (uint32_t t : it->second) {
+                const auto& tri = mesh_.triangles[t];
+                const Vec& a = mesh_.vertices[tri[0]];
+                const Vec& b = mesh_.vertices[tri[1]];
+                const Vec& e = mesh_.vertices[tri[2]];
+                double box2 = 0;  // squared distance from p to the triangle's bounding box
+                for (int i = 0; i < 3; ++i) {
+                    const double gap = std::max({std::min({a[i], b[i], e[i]}) - p[i], p[i] - std::max({a[i], b[i], e[i]}), 0.0});
+                    box2 += gap * gap;
+                }
+                const double limit = bound();
+                if (box2 >= limit * limit) continue;
+                if (!visit(t, point_triangle_distance(p, a, b, e))) return;
+            }
+        }
+    }
+    /// The cells within `by` cells of `cells` along each axis (a cube round each), sorted;
+    /// grown one axis at a time, so each cell is written 3·(2·by + 1) times, not (2·by + 1)³.
+    std::vector<uint64_t> grown(std::vector<uint64_t> cells, int by) const {
+        std::sort(cells.begin(), cells.end());
+        cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+        for (int axis = 0; axis < 3; ++axis) {
+            std::vector<uint64_t> next;
+            next.reserve(cells.size() * std::size_t(2 * by + 1));
+            for (uint64_t cell : cells) {
+                std::array<int64_t, 3> c = coords(cell);
+                const int64_t at = c[std::size_t(axis)];
+                for (int64_t d = std::max<int64_t>(at - by, 0); d <= std::min<int64_t>(at + by, cells_[axis] - 1); ++d) {
+                    c[std::size_t(axis)] = d;
+                    next.push_back(key(c));
+                }
+            }
+            std::sort(next.begin(), next.end());
+            next.erase(std::unique(next.begin(), next.end()), next.end());
+            cells = std::move(next);
+        }
+        return cells;
+    }
+    bool in_region(uint64_t cell) const { return std::binary_search(region_.begin(), region_.end(), cell); }
+    /// Files triangle t under the cells of the region its bounding box meets.
+    void bucket(uint32_t t) {
+        std::array<int64_t, 3> lo, hi;
+        cell_range(t, lo, hi, 0);
+        for (int64_t z = lo[2]; z <= hi[2]; ++z)
+            for (int64_t y = lo[1]; y <= hi[1]; ++y)
+                for (int64_t x = lo[0]; x <= hi[0]; ++x) {
+                    const uint64_t cell = key({x, y, z});
+                    if (!in_region(cell)) continue;
+                    auto& list = buckets_[cell];
+                    if (list.empty() || list.back() != t) list.push_back(t);
+                }
+    }
+    Vec face_normal(const std::array<uint32_t, 3>& tri) const {
+        return cross(sub(mesh_.vertices[tri[1]], mesh_.vertices[tri[0]]), sub(mesh_.vertices[tri[2]], mesh_.vertices[tri[0]]));
+    }
+
+    /// Whether two of triangle t's vertex normals (the field's exact gradients) are more than
+    /// the bend apart, away from the domain's faces; a normal that is not finite, at a
+    /// feature's vertex, is left out. Not its face normal: a sliver's is anything (tanglecube.vm's
+    /// smooth surface has them).
+    bool bent(uint32_t t) const {
+        if (mesh_.normals.size() != mesh_.vertices.size()) return false;
+        const auto& tri = mesh_.triangles[t];
+        for (uint32_t v : tri)
+            if (!interior(mesh_.vertices[v])) return false;  // the domain's cap and the cells beside it
+        for (int i = 0; i < 3; ++i)
+            for (int j = i + 1; j < 3; ++j) {
+                const Vec& m = mesh_.normals[tri[std::size_t(i)]];
+                const Vec& n = mesh_.normals[tri[std::size_t(j)]];
+                if (finite(m) && finite(n) && dot(m, n) < kBentCosine) return true;
+            }
+        return false;
+    }
+
+    /// Whether a point of the surface is within `reach` of p: the one Newton finds from it
+    /// (its distance bounds the nearest's).
+    bool near_surface(const Vec& p, double reach) {
+        const std::optional<Vec> q = project(field_, {p}, h_, reach, reach + kMaxStep * h_, [](const Vec&, double) { return false; })[0];
+        return q && norm(sub(*q, p)) <= reach;
+    }
+
+    /// Whether the triangles `fresh` may replace those numbered `old`: each not degenerate,
+    /// within the region whose triangles are filed, crossing no other triangle, and within
+    /// kCoverDistance of the surface at its centroid and edge midpoints. (Not that it faces
+    /// the way its vertices' normals do: a tent over a tip's cap, whose vertices face sideways,
+    /// often does not, and Chainik's tips at 41 nodes were left 0.6 cells off so.)
+    bool valid(const std::vector<std::array<uint32_t, 3>>& fresh, const std::vector<uint32_t>& old) {
+        for (const auto& tri : fresh)
+            if (!(norm(face_normal(tri)) / 2 >= kMinArea * h_ * h_)) return false;
+        // Crossings with the triangles round them, not those replaced.
+        const double eps = 1e-12 * h_ * h_ * h_;
+        for (const auto& tri : fresh) {
+            std::array<int64_t, 3> lo{}, hi{};
+            for (int a = 0; a < 3; ++a) {
+                double l = INFINITY, u = -INFINITY;
+                for (uint32_t v : tri) l = std::min(l, mesh_.vertices[v][a]), u = std::max(u, mesh_.vertices[v][a]);
+                lo[a] = axis_cell(l, a);
+                hi[a] = axis_cell(u, a);
+            }
+            std::vector<uint32_t> seen;
+            for (int64_t z = lo[2]; z <= hi[2]; ++z)
+                for (int64_t y = lo[1]; y <= hi[1]; ++y)
+                    for (int64_t x = lo[0]; x <= hi[0]; ++x) {
+                        if (!in_region(key({x, y, z}))) return false;  // its neighbours there are not filed
+                        const auto it = buckets_.find(key({x, y, z}));
+                        if (it != buckets_.end()) seen.insert(seen.end(), it->second.begin(), it->second.end());
+                    }
+            std::sort(seen.begin(), seen.end());
+            seen.erase(std::unique(seen.begin(), seen.end()), seen.end());
+            for (uint32_t t : seen) {
+                if (std::find(old.begin(), old.end(), t) != old.end()) continue;
+                if (crosses(tri, mesh_.triangles[t], eps)) return false;
+            }
+        }
+        // Last, as it costs a Newton projection per point.
+        for (const auto& tri : fresh) {
+            const Vec& a = mesh_.vertices[tri[0]];
+            const Vec& b = mesh_.vertices[tri[1]];
+            const Vec& c = mesh_.vertices[tri[2]];
+            const Vec points[4] = {scale(add(add(a, b), c), 1.0 / 3), scale(add(a, b), 0.5), scale(add(b, c), 0.5), scale(add(c, a), 0.5)};
+            for (const Vec& x : points)
+                if (!near_surface(x, kCoverDistance * h_)) return false;
+        }
+        return true;
+    }
+
+    /// Whether triangles s and t meet other than in the vertices or edge they share.
+    bool crosses(const std::array<uint32_t, 3>& s, const std::array<uint32_t, 3>& t, double eps) const {
+        auto at = [&](uint32_t v) -> const Vec& { return mesh_.vertices[v]; };
+        int shared = 0;
+        for (uint32_t v : s) shared += std::count(t.begin(), t.end(), v) > 0;
+        if (shared == 3) return true;
+        if (shared == 2) {  // folded onto each other across their edge
+            const Vec n = face_normal(s), m = face_normal(t);
+            return dot(n, m) < -0.999 * norm(n) * norm(m);
+        }
+        for (int e = 0; e < 3; ++e) {
+            const uint32_t p = s[std::size_t(e)], q = s[std::size_t((e + 1) % 3)];
+            if (shared == 1 && (std::count(t.begin(), t.end(), p) || std::count(t.begin(), t.end(), q))) continue;
+            if (segment_through_triangle(at(p), at(q), at(t[0]), at(t[1]), at(t[2]), eps)) return true;
+        }
+        for (int e = 0; e < 3; ++e) {
+            const uint32_t p = t[std::size_t(e)], q = t[std::size_t((e + 1) % 3)];
+            if (shared == 1 && (std::count(s.begin(), s.end(), p) || std::count(s.begin(), s.end(), q))) continue;
+            if (segment_through_triangle(at(p), at(q), at(s[0]), at(s[1]), at(s[2]), eps)) return true;
+        }
+        return false;
+    }
+
+    uint32_t add_vertex(const Vec& p, const Vec& normal) {
+        mesh_.vertices.push_back(p);
+        if (mesh_.normals.size() + 1 == mesh_.vertices.size()) mesh_.normals.push_back(normal);
+        return uint32_t(mesh_.vertices.size() - 1);
+    }
+    void drop_vertex() {
+        mesh_.vertices.pop_back();
+        if (mesh_.normals.size() > mesh_.vertices.size()) mesh_.normals.pop_back();
+    }
+
+    /// Replaces the triangles numbered `old` by `fresh` (as many or more), if valid.
+    bool replace(const std::vector<uint32_t>& old, const std::vector<std::array<uint32_t, 3>>& fresh) {
+        if (!valid(fresh, old)) return false;
+        for (std::size_t i = 0; i < fresh.size(); ++i) {
+            uint32_t t;
+            if (i < old.size()) {
+                t = old[i];
+                mesh_.triangles[t] = fresh[i];
+            } else {
+                t = uint32_t(mesh_.triangles.size());
+                mesh_.triangles.push_back(fresh[i]);
+            }
+            bucket(t);
+        }
+        return true;
+    }
+
+    bool split_face(uint32_t t, const Vec& p, const Vec& normal) {
+        const auto [a, b, c] = mesh_.triangles[t];
+        const uint32_t v = add_vertex(p, normal);
+        if (replace({t}, {{a, b, v}, {b, c, v}, {c, a, v}})) return true;
+        drop_vertex();
+        return false;
+    }
+
+    GradientField field_;
+    Mesh& mesh_;
+    double min_[3], max_[3], step_[3];
+    int64_t cells_[3];
+    double h_;
+    std::unordered_map<uint64_t, std::vector<uint32_t>> buckets_;  ///< cell → triangles whose box meets it
+    std::vector<uint64_t> probed_;                                 ///< the cells probed, sorted
+    std::vector<uint64_t> region_;  ///< they and the cells within 3 of them, sorted: where triangles are filed
+};
+
+}  // namespace
+
+void cover_surface(const ir::Graph& graph, ir::NodeId root, const Grid& grid, Mesh& mesh, const EvalOptions& options,
+                   CoverStats* stats) {
+    CoverStats local;
+    CoverStats& s = stats ? *stats : local;
+    if (mesh.triangles.empty() || grid.dims != 3) return;
+    const Tape tape = compile_tape(graph, TapeSpec{{root}, {}, {}, true});
+    Cover cover(tape, grid, mesh);
+    const double h = cover.h();
+    std::vector<std::array<int64_t, 3>> starts = cover.probe_starts();
+    const int workers = worker_count(starts.size(), options);
+    std::vector<GradientField> fields;
+    for (int w = 0; w < std::max(workers, 1); ++w) fields.emplace_back(tape);
+    constexpr std::size_t kChunk = 64;
+    // First the values alone on the probes' half-cell lattice: where they say the surface is
+    // farther than kProbeReach (|f| over the steepest one-sided differences, which the slope
+    // exceeds little), the start is left out before Newton needs the gradient there.
+    {
+        std::vector<double> value(starts.size());
+        parallel_for((starts.size() + kChunk - 1) / kChunk, options, [&](std::size_t chunk, int worker) {
+            std::vector<Vec> points;
+            for (std::size_t i = chunk * kChunk; i < std::min(starts.size(), (chunk + 1) * kChunk); ++i) points.push_back(cover.position(starts[i]));
+            const double* v = fields[std::size_t(worker)].values(points);
+            std::copy(v, v + points.size(), value.begin() + long(chunk * kChunk));
+            return std::size_t{0};
+        });
+        if (options.cancel && options.cancel->load()) return;
+        std::vector<std::array<int64_t, 3>> near;
+        for (std::size_t i = 0; i < starts.size(); ++i) {
+            double slope2 = 0;
+            bool known = std::isfinite(value[i]);
+            for (int a = 0; a < 3 && known; ++a) {
+                double steepest = -1;
+                for (int side : {-1, 1}) {
+                    std::array<int64_t, 3> q = starts[i];
+                    q[std::size_t(a)] += side;
+                    const auto it = std::lower_bound(starts.begin(), starts.end(), q);
+                    if (it == starts.end() || *it != q) continue;
+                    const double other = value[std::size_t(it - starts.begin())];
+                    if (std::isfinite(other)) steepest = std::max(steepest, std::fabs(other - value[i]) / (cover.step(a) / 2));
+                }
+                known = steepest >= 0;
+                slope2 += steepest * steepest;
+            }
+            if (!known || !(std::fabs(value[i]) > kProbeReach * h * std::sqrt(slope2))) near.push_back(starts[i]);
+        }
+        starts = std::move(near);
+    }
+    s.probes = starts.size();
+    // Projections in parallel (each worker its own evaluator), distances after, in order.
+    std::vector<std::optional<Vec>> projected(starts.size());
+    parallel_for((starts.size() + kChunk - 1) / kChunk, options, [&](std::size_t chunk, int worker) {
+        std::vector<Vec> points;
+        for (std::size_t i = chunk * kChunk; i < std::min(starts.size(), (chunk + 1) * kChunk); ++i) points.push_back(cover.position(starts[i]));
+        auto landed = Cover::project(fields[std::size_t(worker)], points, h, kProbeReach * h, kMaxTravel * h, [&](const Vec& p, double r) {
+            const double enough = kCoverDistance * h - 2 * r;
+            return cover.distance(p, enough) < enough;
+        });
+        std::move(landed.begin(), landed.end(), projected.begin() + long(chunk * kChunk));
+        return std::size_t{0};
+    });
+    if (options.cancel && options.cancel->load()) return;
+    std::vector<FarPoint> far;
+    for (const auto& p : projected) {
+        if (!p || !cover.interior(*p)) continue;
+        const double d = cover.distance(*p);
+        if (d > kCoverDistance * h) far.push_back({*p, d});
+    }
+    s.far = far.size();
+    // Farthest first; each measured again, as an earlier one's vertex may cover it.
+    std::sort(far.begin(), far.end(), [](const FarPoint& a, const FarPoint& b) {
+        return a.distance != b.distance ? a.distance > b.distance : a.point < b.point;
+    });
+    for (const FarPoint& f : far) {
+        const double d = cover.distance(f.point);
+        if (!(d > kCoverDistance * h)) {
+            ++s.covered;
+        } else if (cover.insert(f.point)) {
+            ++s.inserted;
+        } else {
+            ++s.refused;
+            if (std::isfinite(d)) s.farthest_left = std::max(s.farthest_left, d / h);  // else no triangle within a cell
+        }
+    }
+}
+
+}  // namespace fortu

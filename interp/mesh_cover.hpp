@@ -1,0 +1,48 @@
+// interp/mesh_cover.hpp — points of the surface the finished mesh passes more than
+// kCoverDistance from become vertices of it.
+//
+// Why: marching tetrahedra see the solid at the lattice's nodes (and at the refined cells'
+// finer ones), and the sharp-feature pass puts back the R-operations' edges; what neither
+// sees is left up to a cell or two from the mesh: the tip of a blade that enters a cell
+// through a face whose four corners are outside (Chainik's feet), a spike's or a wedge's tip
+// whose refinement a corner's cells held back (new_Chainik's base rim), a twisted edge
+// (Tor1). This pass looks for them as the tests' independent check does: it projects points
+// onto the surface by Newton, from a half-cell lattice in the cells round the mesh's bent
+// parts, and measures each projection's distance to the mesh. A projection farther than
+// kCoverDistance is put in as a vertex, splitting a triangle near it (or an edge of one,
+// with the triangle across it) where the new triangles are not degenerate, cross no other
+// and keep within kCoverDistance of the surface. A split keeps every edge in two triangles
+// and every winding, so the mesh stays closed, manifold and oriented; only the sharp
+// features' exactness is not at stake, as a split adds a vertex and moves none.
+#pragma once
+
+#include "interp/engine.hpp"
+#include "interp/ir/ir.hpp"
+#include "runtime/grid.hpp"
+#include "runtime/mesh.hpp"
+
+#include <cstddef>
+
+namespace fortu {
+
+/// How far from the mesh, in cells, a surface point may be before it is put in: under the
+/// half cell the mesh is held to, so that points between the probes are within it too.
+inline constexpr double kCoverDistance = 0.4;
+
+/// What cover_surface did (for --stats).
+struct CoverStats {
+    std::size_t probes = 0;     ///< points projected onto the surface
+    std::size_t far = 0;        ///< projections farther than kCoverDistance from the mesh
+    std::size_t inserted = 0;   ///< of those, put in as vertices
+    std::size_t covered = 0;    ///< of those, covered by another's vertex
+    std::size_t refused = 0;    ///< of those, no split of a triangle near them was valid
+    double farthest_left = 0;   ///< the farthest refused, in cells
+};
+
+/// Puts into `mesh` (made on `grid`'s lattice, vertex normals outward) a vertex at each
+/// surface point it finds more than kCoverDistance from it. The result depends on the input
+/// only, not on the number of threads.
+void cover_surface(const ir::Graph& graph, ir::NodeId root, const Grid& grid, Mesh& mesh, const EvalOptions& options,
+                   CoverStats* stats = nullptr);
+
+}  // namespace fortu

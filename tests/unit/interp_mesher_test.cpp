@@ -258,10 +258,11 @@ TEST_CASE("parts thinner than a cell are found by their tetrahedra's edges and m
 }
 
 TEST_CASE("a spike's tip that marching tetrahedra cut off is put back by a vertex on the surface") {
-    // A cone 8.5° wide at its apex (0.013, 0.021, 0.37), off the lattice of 25 nodes (cells of
-    // 1/12): its last 20 cells are thinner than a cell, and no node or midpoint falls in its
-    // tip, so marching tetrahedra stop 1.96 cells below the apex. The probes round the cap's
-    // bent triangles find the surface there more than 0.4 cells from the mesh and put it in.
+    // A cone of half-angle 8.5° with its apex at (0.013, 0.021, 0.37), off the lattice of 25
+    // nodes (cells of 1/12): its last 3.4 cells of height are thinner than a cell, and the
+    // mesh without this pass stops 1.96 cells from the apex (measured with the pass turned
+    // off). The probes round the cap's bent triangles find the surface there more than 0.4
+    // cells from the mesh and put it in.
     const Model m = model_of("ARGUMENT X, Y, Z\nVARIABLE R = SQRT((X - 0.013) * (X - 0.013) + (Y - 0.021) * (Y - 0.021))\n"
                              "RETURN ((0.37 - Z) * 0.15 - R) & (Z + 0.5)\n");
     const Grid grid = cube(1, 25);

@@ -24,8 +24,8 @@ using Vec = std::array<double, 3>;
 /// than 90° apart are probed: a cap across a blade or a tip, whose two sides face away from
 /// each other, a fold, a sharp edge. A smooth part's normals differ little in a cell, and
 /// its chords are marching tetrahedra's usual error. (At 26°, or round triangles longer than
-/// 1.5 cells too, the probes found nothing more on the RANOK scripts, at 8 times the cost on
-/// bear.vm.)
+/// 1.5 cells too, the probes found nothing more on the RANOK scripts; round the long ones
+/// bear.vm had five times the probes.)
 constexpr double kBentCosine = 0.0;
 /// Newton steps at most a quarter cell (it follows the gradient to the near surface, not a
 /// far zero where the slope is small), at most this many, and not farther than two cells

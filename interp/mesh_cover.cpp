@@ -2,7 +2,7 @@
 // vertices (the why is in mesh_cover.hpp).
 #include "interp/mesh_cover.hpp"
 
-#include "interp/lane_kernel.hpp"
+#include "interp/lane_points.hpp"
 #include "interp/parallel.hpp"
 #include "interp/tape.hpp"
 #include "runtime/mesh_compare.hpp"
@@ -72,35 +72,13 @@ bool segment_through_triangle(const Vec& p, const Vec& q, const Vec& a, const Ve
 }
 
 /// The model's values and exact gradients at a batch of points (dual numbers, a lane each:
-/// the tape is read once per batch, not once per point).
+/// the tape is read once per batch, not once per point), or its values alone.
 class GradientField {
 public:
     explicit GradientField(const Tape& tape) : tape_(tape) {}
-    /// Evaluates at `points`; value(k) and gradient(k) read point k's.
+    /// Evaluates at `points` (at least one); value(k) and gradient(k) read point k's.
     void at(const std::vector<Vec>& points) {
-        const std::size_t n = std::max<std::size_t>(points.size(), 1);
-        if (lanes_.size() < std::size_t(tape_.slot_count) * n) lanes_.assign(std::size_t(tape_.slot_count) * n, ir::Dual(0.0));
-        slots_.resize(tape_.slot_count);
-        for (uint32_t s = 0; s < tape_.slot_count; ++s) slots_[s] = lanes_.data() + std::size_t(s) * n;
-        std::fill_n(slots_[0], n, ir::Dual(0.0));  // the zero slot unused operands read
-        for (auto [slot, axis] : tape_.arguments)
-            for (std::size_t k = 0; k < points.size(); ++k) slots_[slot][k] = ir::Dual::variable(points[k][axis], axis);
-        for (auto [slot, value] : tape_.constants) std::fill_n(slots_[slot], n, ir::Dual(value));
-        run_lanes<ir::Dual, 0>(tape_.code.data(), tape_.code.size(), slots_.data(), int(points.size()));
-        root_ = slots_[tape_.root_slot];
-    }
-    /// The values alone at `points` (plain doubles: about a quarter of the cost), in order.
-    const double* values(const std::vector<Vec>& points) {
-        const std::size_t n = std::max<std::size_t>(points.size(), 1);
-        if (plain_.size() < std::size_t(tape_.slot_count) * n) plain_.assign(std::size_t(tape_.slot_count) * n, 0.0);
-        plain_slots_.resize(tape_.slot_count);
-        for (uint32_t s = 0; s < tape_.slot_count; ++s) plain_slots_[s] = plain_.data() + std::size_t(s) * n;
-        std::fill_n(plain_slots_[0], n, 0.0);
-        for (auto [slot, axis] : tape_.arguments)
-            for (std::size_t k = 0; k < points.size(); ++k) plain_slots_[slot][k] = points[k][axis];
-        for (auto [slot, value] : tape_.constants) std::fill_n(plain_slots_[slot], n, value);
-        run_lanes<double, 0>(tape_.code.data(), tape_.code.size(), plain_slots_.data(), int(points.size()));
-        return plain_slots_[tape_.root_slot];
+        root_ = run_at_points(tape_, lanes_, slots_, int(points.size()), [&](int k, int axis) { return points[std::size_t(k)][std::size_t(axis)]; });
     }
     double value(std::size_t k) const { return root_[k].v; }
     Vec gradient(std::size_t k) const { return {root_[k].d[0], root_[k].d[1], root_[k].d[2]}; }
@@ -109,6 +87,10 @@ public:
         at(std::vector<Vec>{p});
         gradient = this->gradient(0);
         return value(0);
+    }
+    /// The values alone at `points` (plain doubles: about a quarter of the cost), in order.
+    const double* values(const std::vector<Vec>& points) {
+        return run_at_points(tape_, plain_, plain_slots_, int(points.size()), [&](int k, int axis) { return points[std::size_t(k)][std::size_t(axis)]; });
     }
 
 private:

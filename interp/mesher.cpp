@@ -8,6 +8,7 @@
 #include "interp/mesh_cover.hpp"
 #include "interp/mesh_refine.hpp"
 #include "interp/lane_kernel.hpp"
+#include "interp/lane_points.hpp"
 #include "interp/parallel.hpp"
 #include "interp/tape.hpp"
 #include "interp/written_r_operations.hpp"
@@ -184,30 +185,6 @@ struct Worker {
     std::vector<ThinPart> thin_cells;  ///< find_thin_cells
     std::array<bool, 6> cut_faces{};  ///< the domain's faces with a node inside the model, in leaves with triangles
 };
-
-template <class T>
-void bind_slots(std::vector<T>& lanes, std::vector<T*>& slots, const Tape& tape, int width) {
-    if (lanes.size() < std::size_t(tape.slot_count) * width) lanes.assign(std::size_t(tape.slot_count) * width, T(0.0));
-    slots.resize(tape.slot_count);
-    for (uint32_t s = 0; s < tape.slot_count; ++s) slots[s] = lanes.data() + std::size_t(s) * width;
-    std::fill_n(slots[0], width, T(0.0));  // the zero slot unused operands read
-}
-
-/// Runs `tape` at `n` points, coordinate(k, axis) of point k (a variable of dual numbers for
-/// Dual lanes), in `lanes`; returns the root's lane.
-template <class T, class Coordinate>
-const T* run_at_points(const Tape& tape, std::vector<T>& lanes, std::vector<T*>& slots, int n, const Coordinate& coordinate) {
-    bind_slots(lanes, slots, tape, n);
-    for (auto [slot, axis] : tape.arguments)
-        for (int k = 0; k < n; ++k) {
-            const double x = coordinate(k, int(axis));
-            if constexpr (std::is_same_v<T, Dual>) slots[slot][k] = Dual::variable(x, axis);
-            else slots[slot][k] = x;
-        }
-    for (auto [slot, value] : tape.constants) std::fill_n(slots[slot], n, T(value));
-    run_lanes<T, 0>(tape.code.data(), tape.code.size(), slots.data(), n);
-    return slots[tape.root_slot];
-}
 
 class Mesher {
 public:

@@ -165,6 +165,19 @@ public:
                                                    double travel, Covered&& covered) {
         std::vector<std::optional<Vec>> out(points.size());
         const std::vector<Vec> start = points;
+        // Across a crease (an acute convex edge: Tor1's twisted square, 25° at its inner side,
+        // a blade's edge; or a concave one) each Newton step lands on the other face's side,
+        // whose gradient points nearly the other way: alone the steps zigzag towards the edge
+        // a little each time, or not at all. So each point keeps where it was last on the other
+        // side, and steps onto both faces' tangent planes at once (the nearest point of their
+        // line): on the edge in a few steps. There each gradient points out of the other
+        // face's inside; only their bisector points into the solid.
+        struct Sample {
+            Vec point;
+            double value = 0;
+            Vec gradient{};  ///< zero: none yet
+        };
+        std::vector<Sample> last(points.size()), other(points.size());
         std::vector<std::size_t> active(points.size()), landed;
         for (std::size_t k = 0; k < active.size(); ++k) active[k] = k;
         std::vector<Vec> at;
@@ -179,15 +192,24 @@ public:
                 const Vec g = field.gradient(j);
                 const double g2 = dot(g, g);
                 if (!std::isfinite(v) || !(g2 > 0) || !std::isfinite(g2)) continue;
-                double s = v / g2;
-                const double length = std::fabs(s) * std::sqrt(g2);
+                const double length = std::fabs(v) / std::sqrt(g2);
                 if (i == 0 && length > reach) continue;
                 if (length < kFirstOrder * h && covered(points[k], length)) continue;
-                if (length > kMaxStep * h) s *= kMaxStep * h / length;
-                points[k] = sub(points[k], scale(g, s));
-                if (norm(sub(points[k], start[k])) > travel) continue;
-                if (length < 1e-9 * h) {
-                    out[k] = scale(g, 1e-6 * h / std::sqrt(g2));  // for the boundary test below
+                if (dot(g, last[k].gradient) < 0) other[k] = last[k];
+                last[k] = {points[k], v, g};
+                Vec step = scale(g, -v / g2);
+                const Vec& q = other[k].gradient;
+                const double across = dot(g, q), q2 = dot(q, q), det = g2 * q2 - across * across;
+                if (across < 0 && det > 1e-6 * g2 * q2) {
+                    // The other face's plane through its last point, at this point: q·d = −w.
+                    const double w = other[k].value + dot(q, sub(points[k], other[k].point));
+                    step = add(scale(g, (-v * q2 + w * across) / det), scale(q, (-w * g2 + v * across) / det));
+                }
+                const double stride = norm(step);
+                if (stride > kMaxStep * h) step = scale(step, kMaxStep * h / stride);
+                points[k] = add(points[k], step);
+                if (!finite(points[k]) || norm(sub(points[k], start[k])) > travel) continue;
+                if (length < 1e-9 * h && stride < 1e-9 * h) {
                     landed.push_back(k);
                 } else {
                     next.push_back(k);
@@ -195,15 +217,21 @@ public:
             }
             active = std::move(next);
         }
-        // On the boundary: both signs within a millionth of a cell along the gradient (not a
-        // zero the field only touches).
+        // On the boundary: both signs within a millionth of a cell along the gradient or the
+        // bisector of it and the other side's (not a zero the field only touches).
         at.clear();
-        for (std::size_t k : landed) at.push_back(add(points[k], *out[k])), at.push_back(sub(points[k], *out[k]));
+        for (std::size_t k : landed) {
+            const Vec n = scale(last[k].gradient, 1 / norm(last[k].gradient));
+            const Vec& q = other[k].gradient;
+            const Vec sum = dot(q, q) > 0 ? add(n, scale(q, 1 / norm(q))) : n;
+            const Vec bisector = norm(sum) > 1e-3 ? scale(sum, 1 / norm(sum)) : n;
+            for (const Vec& d : {scale(n, 1e-6 * h), scale(bisector, 1e-6 * h)}) at.push_back(add(points[k], d)), at.push_back(sub(points[k], d));
+        }
         if (!landed.empty()) field.at(at);
         for (std::size_t j = 0; j < landed.size(); ++j) {
-            const std::size_t k = landed[j];
-            if ((field.value(2 * j) > 0) == (field.value(2 * j + 1) > 0)) out[k].reset();
-            else out[k] = points[k];
+            int positive = 0;
+            for (std::size_t e = 0; e < 4; ++e) positive += field.value(4 * j + e) > 0;
+            if (positive % 4 != 0) out[landed[j]] = points[landed[j]];
         }
         return out;
     }

@@ -27,17 +27,17 @@ namespace fortu {
 /// How far from the mesh, in cells, a surface point may be before it is put in: under the
 /// half cell the mesh is held to, so that points between the probes are within it too (at
 /// 0.4, new_Chainik at 24 nodes kept a surface point 0.50 cells off, 0.13 cells from a probe's
-/// landing point found 0.61 off).
-inline constexpr double kCoverDistance = 0.3;
+/// landing point found 0.61 off; at 0.3, at 64 nodes, one 0.504 off, 0.458 now).
+inline constexpr double kCoverDistance = 0.25;
 
 /// What cover_surface did (for --stats).
 struct CoverStats {
     std::size_t probes = 0;     ///< points projected onto the surface
     std::size_t far = 0;        ///< projections farther than kCoverDistance from the mesh
     std::size_t inserted = 0;   ///< of those, put in as vertices
-    std::size_t covered = 0;    ///< of those, covered by another's vertex
-    std::size_t refused = 0;    ///< of those, no split of a triangle near them was valid
-    double farthest_left = 0;   ///< the farthest refused, in cells
+    std::size_t covered = 0;    ///< of those, covered by another's vertex (when its turn came, or at the end)
+    std::size_t refused = 0;    ///< of those, no split of a triangle near them was valid, and still far at the end
+    double farthest_left = 0;   ///< the farthest refused at the end, in cells
 };
 
 /// Puts into `mesh` (made on `grid`'s lattice, vertex normals outward) a vertex at each

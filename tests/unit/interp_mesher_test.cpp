@@ -297,8 +297,9 @@ TEST_CASE("a twisted blade's edge that marching tetrahedra cut across is put bac
     // A blade 11° thin (its sides the crease of ABS, which the feature pass does not trace)
     // whose edge U = 0.37, V = 0.021 turns a radian every quarter unit of Z, on 25 nodes
     // (cells of 1/12). Newton from beside the edge steps from one side to the other: alone it
-    // zigzagged without landing, and the edge stayed 0.60 cells from the mesh (0.46 with the
-    // far points at 0.3 cells; 0.31 since probes step onto both sides' tangent planes at once).
+    // zigzagged without landing, and the edge stayed 0.60 cells from the mesh (with points put
+    // in from 0.3 cells off, 0.46 without probes stepping onto both sides' tangent planes at
+    // once and 0.31 with them; 0.24 from 0.25 cells off).
     const Model m = model_of("ARGUMENT X, Y, Z\nVARIABLE C = COS(4*Z)\nVARIABLE S = SIN(4*Z)\n"
                              "VARIABLE U = X*C + Y*S\nVARIABLE V = Y*C - X*S\n"
                              "RETURN ((0.37 - U) * 0.1 - ABS(V - 0.021)) & (X*X + Y*Y - 0.0025) & (0.5 - Z) & (Z + 0.5)\n");

@@ -682,8 +682,8 @@ TEST_CASE("every 3D RANOK script, bear.vm and the FLOZ3 sphere mesh with no --do
         // Within it since surface points far from the mesh are put in (mesh_cover.hpp):
         // - new_Chainik's spout, a bore 0.2 wide that passes no cell's centre but the midpoints
         //   of faces and edges, refined (1.03 before, 0.51 at 24³ samples with points put in
-        //   from 0.4 cells off, 0.43 from 0.3, 0.45 from 0.25, which at 64 nodes is 0.46, not
-        //   0.50);
+        //   from 0.4 cells off, 0.43 from 0.3, 0.45 from 0.25; at 64 nodes 0.50 from 0.3 and
+        //   0.46 from 0.25);
         // - Tor1, a square tube twisted 2.5 turns in each half of the torus (its field is
         //   continuous across X = 0, where ARCTAN(Y/X) turns the section by 5π, onto itself):
         //   faces curving within a cell or two and 25° wedges at its inner side (0.59; 0.56
@@ -904,7 +904,7 @@ TEST_CASE("--stats counts the points where sharp edges cross cell faces that the
     CHECK(crossings == 542);  // fortu's 544 but two seeds on the plane Y = 0, where those traces start
     // On the finished mesh, after the surface points far from it were put in (mesh_cover.hpp):
     // none more than half a cell off, the farthest 0.397 cells (5 and 0.686 before that pass, 1
-    // and 0.562 before its probes landed on acute edges and it put in points over 0.3 cells
+    // and 0.562 before its probes landed on acute edges and it put in points over 0.25 cells
     // off, not 0.4; --stats counts them before that pass).
     CHECK(off == 136);
     CHECK(over_half == 0);

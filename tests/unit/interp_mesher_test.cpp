@@ -320,9 +320,9 @@ TEST_CASE("a twisted blade's edge that marching tetrahedra cut across is put bac
     }
     INFO("edge farthest ", farthest / h, " cells");
     CHECK(farthest < 0.4 * h);
-    // The new vertices are on the surface: to first order within the billionth of a cell
-    // Newton stops at (a crease's values converge linearly, not quadratically), or exactly
-    // (the blade's corners at Z = ±0.5, where its gradient is NaN).
+    // The new vertices are on the surface: within the billionth of a cell Newton stops at, to
+    // first order (beside a crease the value left there is larger than the cone's 1e-12), or
+    // exactly (the blade's corners at Z = ±0.5, where its gradient is NaN).
     const PointEvaluator field(m.graph, m.root);
     for (std::size_t v = mesh.vertices.size() - stats.cover.inserted; v < mesh.vertices.size(); ++v) {
         const PointValue at = field(mesh.vertices[v]);

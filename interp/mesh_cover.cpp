@@ -4,6 +4,7 @@
 
 #include "interp/lane_points.hpp"
 #include "interp/parallel.hpp"
+#include "interp/segment_through_triangle.hpp"
 #include "interp/tape.hpp"
 #include "runtime/mesh_compare.hpp"
 
@@ -56,20 +57,6 @@ Vec cross(const Vec& a, const Vec& b) {
 }
 double norm(const Vec& a) { return std::sqrt(dot(a, a)); }
 bool finite(const Vec& a) { return std::isfinite(a[0]) && std::isfinite(a[1]) && std::isfinite(a[2]); }
-
-/// Whether segment pq passes through the inside of triangle abc (strictly, beyond `eps` of
-/// volume).
-bool segment_through_triangle(const Vec& p, const Vec& q, const Vec& a, const Vec& b, const Vec& c, double eps) {
-    auto orient = [&](const Vec& w, const Vec& x, const Vec& y, const Vec& z) {
-        const double v = dot(sub(x, w), cross(sub(y, w), sub(z, w)));
-        return v > eps ? 1 : v < -eps ? -1 : 0;
-    };
-    const int s1 = orient(a, b, c, p), s2 = orient(a, b, c, q);
-    if (s1 * s2 > 0) return false;
-    if (s1 == 0 && s2 == 0) return false;  // coplanar: left to the shared-edge fold test
-    const int u = orient(p, q, a, b), v = orient(p, q, b, c), w = orient(p, q, c, a);
-    return (u >= 0 && v >= 0 && w >= 0) || (u <= 0 && v <= 0 && w <= 0);
-}
 
 /// The model's values and exact gradients at a batch of points (dual numbers, a lane each:
 /// the tape is read once per batch, not once per point), or its values alone.
@@ -460,12 +447,12 @@ private:
         for (int e = 0; e < 3; ++e) {
             const uint32_t p = s[std::size_t(e)], q = s[std::size_t((e + 1) % 3)];
             if (shared == 1 && (std::count(t.begin(), t.end(), p) || std::count(t.begin(), t.end(), q))) continue;
-            if (segment_through_triangle(at(p), at(q), at(t[0]), at(t[1]), at(t[2]), eps)) return true;
+            if (segment_through_triangle(at(p), at(q), at(t[0]), at(t[1]), at(t[2]), eps, EndOnPlane::crosses)) return true;
         }
         for (int e = 0; e < 3; ++e) {
             const uint32_t p = t[std::size_t(e)], q = t[std::size_t((e + 1) % 3)];
             if (shared == 1 && (std::count(s.begin(), s.end(), p) || std::count(s.begin(), s.end(), q))) continue;
-            if (segment_through_triangle(at(p), at(q), at(s[0]), at(s[1]), at(s[2]), eps)) return true;
+            if (segment_through_triangle(at(p), at(q), at(s[0]), at(s[1]), at(s[2]), eps, EndOnPlane::crosses)) return true;
         }
         return false;
     }

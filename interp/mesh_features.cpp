@@ -3,6 +3,7 @@
 #include "interp/mesh_features.hpp"
 
 #include "interp/lane_kernel.hpp"
+#include "interp/segment_through_triangle.hpp"
 #include "interp/tape.hpp"
 #include "interp/written_r_operations.hpp"
 #include "runtime/mesh_compare.hpp"
@@ -364,19 +365,6 @@ bool segments_cross_2d(const std::array<double, 2>& a, const std::array<double, 
     // Collinear touching that is not a shared end.
     return (s1 == 0 && near_segment(a, b, c)) || (s2 == 0 && near_segment(a, b, d)) ||
            (s3 == 0 && near_segment(c, d, a)) || (s4 == 0 && near_segment(c, d, b));
-}
-
-/// Whether segment pq passes through the inside of triangle abc (strictly, within `eps` of
-/// volume): two triangles of one cell that do not share an edge must not cross.
-bool segment_through_triangle(const Vec& p, const Vec& q, const Vec& a, const Vec& b, const Vec& c, double eps) {
-    auto orient = [&](const Vec& w, const Vec& x, const Vec& y, const Vec& z) {
-        const double v = dot(sub(x, w), cross(sub(y, w), sub(z, w)));
-        return v > eps ? 1 : v < -eps ? -1 : 0;
-    };
-    const int s1 = orient(a, b, c, p), s2 = orient(a, b, c, q);
-    if (s1 * s2 >= 0) return false;
-    const int u = orient(p, q, a, b), v = orient(p, q, b, c), w = orient(p, q, c, a);
-    return (u >= 0 && v >= 0 && w >= 0) || (u <= 0 && v <= 0 && w <= 0);
 }
 
 /// Whether triangle abc meets the inside of the box [lo, hi] (the separating axis test: the
@@ -3551,8 +3539,8 @@ private:
                 for (int a = 0; a < 3; ++a) apart |= bx[1][a] < by[0][a] || by[1][a] < bx[0][a];
                 if (apart) continue;
                 for (int e = 0; e < 3; ++e)
-                    if (segment_through_triangle(P[x[e]], P[x[(e + 1) % 3]], P[y[0]], P[y[1]], P[y[2]], eps) ||
-                        segment_through_triangle(P[y[e]], P[y[(e + 1) % 3]], P[x[0]], P[x[1]], P[x[2]], eps))
+                    if (segment_through_triangle(P[x[e]], P[x[(e + 1) % 3]], P[y[0]], P[y[1]], P[y[2]], eps, EndOnPlane::misses) ||
+                        segment_through_triangle(P[y[e]], P[y[(e + 1) % 3]], P[x[0]], P[x[1]], P[x[2]], eps, EndOnPlane::misses))
                         return true;
             }
         }
@@ -3569,8 +3557,8 @@ private:
                 for (std::size_t t = first_of[p + 1]; t < triangles.size(); ++t) {
                     const Tri &x = triangles[s], &y = triangles[t];
                     for (int e = 0; e < 3; ++e)
-                        if (segment_through_triangle(P[x[e]], P[x[(e + 1) % 3]], P[y[0]], P[y[1]], P[y[2]], eps) ||
-                            segment_through_triangle(P[y[e]], P[y[(e + 1) % 3]], P[x[0]], P[x[1]], P[x[2]], eps))
+                        if (segment_through_triangle(P[x[e]], P[x[(e + 1) % 3]], P[y[0]], P[y[1]], P[y[2]], eps, EndOnPlane::misses) ||
+                            segment_through_triangle(P[y[e]], P[y[(e + 1) % 3]], P[x[0]], P[x[1]], P[x[2]], eps, EndOnPlane::misses))
                             return true;
                 }
         return false;

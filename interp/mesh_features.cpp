@@ -1357,15 +1357,19 @@ private:
                 for (long y = lo[1]; y <= hi[1]; ++y)
                     for (long x = lo[0]; x <= hi[0]; ++x) redone[cell_id(uint64_t(x), uint64_t(y), uint64_t(z))].push_back(uint32_t(t));
         }
-        std::unordered_map<uint64_t, std::vector<Tri>> near;  // a cell looked in → the triangles meeting it
-        auto in_cell = [&](uint64_t id) -> const std::vector<Tri>& {
+        struct NearTriangle {
+            Tri corners;
+            bool redone;  ///< by this pass, not marching tetrahedra's
+        };
+        std::unordered_map<uint64_t, std::vector<NearTriangle>> near;  // a cell looked in → the triangles meeting it
+        auto in_cell = [&](uint64_t id) -> const std::vector<NearTriangle>& {
             const auto [it, fresh] = near.try_emplace(id);
             if (fresh) {
                 if (const auto patch = patch_of(id))
                     for (uint32_t t : *patch)
-                        if (!removed[t]) it->second.push_back(mesh_.triangles[t]);
+                        if (!removed[t]) it->second.push_back({mesh_.triangles[t], false});
                 if (const auto r = redone.find(id); r != redone.end())
-                    for (uint32_t t : r->second) it->second.push_back(triangles[t]);
+                    for (uint32_t t : r->second) it->second.push_back({triangles[t], true});
             }
             return it->second;
         };
@@ -1378,7 +1382,7 @@ private:
             for (long z = lo[2]; z <= hi[2]; ++z)
                 for (long y = lo[1]; y <= hi[1]; ++y)
                     for (long x = lo[0]; x <= hi[0]; ++x)
-                        for (const Tri& t : in_cell(cell_id(uint64_t(x), uint64_t(y), uint64_t(z))))
+                        for (const auto& [t, redone_here] : in_cell(cell_id(uint64_t(x), uint64_t(y), uint64_t(z))))
                             distance = std::min(distance, point_triangle_distance(q, positions_[t[0]], positions_[t[1]], positions_[t[2]]));
             return distance;
         };
@@ -1392,27 +1396,38 @@ private:
                 for (uint64_t id : cells_around(q)) query->refine.push_back(id);
         }
         // Which side of the finished mesh p is on, by the triangles nearest it within a cell
-        // (their normals summed where they meet at the nearest point); on it counts as either.
-        auto inside_mesh = [&](const Vec& p, bool& inside, double& distance) {
+        // (their normals summed where they meet at the nearest point: not those as near at
+        // another point, whose normals may cancel, as round a tube's axis); on it counts as
+        // either. `redone_nearest`: one of those is this pass's, not marching tetrahedra's.
+        auto inside_mesh = [&](const Vec& p, bool& inside, double& distance, bool& redone_nearest) {
             const std::array<long, 3> c{cell_of(p[0], 0), cell_of(p[1], 1), cell_of(p[2], 2)};
             double best = std::numeric_limits<double>::infinity();
             Vec closest{};
-            std::vector<std::pair<double, Tri>> candidates;
+            struct Candidate {
+                double distance;
+                Vec point;
+                NearTriangle triangle;
+            };
+            std::vector<Candidate> candidates;
             for (long z = std::max(c[2] - 1, 0L); z <= std::min(c[2] + 1, long(cells_[2]) - 1); ++z)
                 for (long y = std::max(c[1] - 1, 0L); y <= std::min(c[1] + 1, long(cells_[1]) - 1); ++y)
                     for (long x = std::max(c[0] - 1, 0L); x <= std::min(c[0] + 1, long(cells_[0]) - 1); ++x)
-                        for (const Tri& t : in_cell(cell_id(uint64_t(x), uint64_t(y), uint64_t(z)))) {
-                            const Vec q = closest_point_on_triangle(p, positions_[t[0]], positions_[t[1]], positions_[t[2]]);
+                        for (const NearTriangle& t : in_cell(cell_id(uint64_t(x), uint64_t(y), uint64_t(z)))) {
+                            const Tri& corners = t.corners;
+                            const Vec q = closest_point_on_triangle(p, positions_[corners[0]], positions_[corners[1]], positions_[corners[2]]);
                             const double d = norm(sub(p, q));
-                            candidates.push_back({d, t});
+                            candidates.push_back({d, q, t});
                             if (d < best) best = d, closest = q;
                         }
             distance = best;
             if (candidates.empty()) return false;
             Vec normal{0, 0, 0};
-            for (const auto& [d, t] : candidates) {
-                if (d > best + 1e-9 * h) continue;
-                const Vec n = cross(sub(positions_[t[1]], positions_[t[0]]), sub(positions_[t[2]], positions_[t[0]]));
+            redone_nearest = false;
+            for (const Candidate& candidate : candidates) {
+                if (norm(sub(candidate.point, closest)) > 1e-9 * h) continue;
+                const Tri& corners = candidate.triangle.corners;
+                redone_nearest = redone_nearest || candidate.triangle.redone;
+                const Vec n = cross(sub(positions_[corners[1]], positions_[corners[0]]), sub(positions_[corners[2]], positions_[corners[0]]));
                 const double length = norm(n);
                 if (length > 0)
                     for (int a = 0; a < 3; ++a) normal[a] += n[a] / length;
@@ -1423,10 +1438,14 @@ private:
         if (query) {
             for (const ThinPart& part : query->thin) {
                 // Where the pass put the part's edges back, the mesh has its point on the side
-                // the field says; elsewhere marching tetrahedra's surface cuts it off.
-                bool inside = false;
+                // the field says, or a hair across a face it put back; elsewhere marching
+                // tetrahedra's surface cuts it off, however near it passes (Chainik at 64
+                // nodes: 0.05 cells from a cell's centre 0.5 cells deep in a slab whose
+                // surfaces it joins across).
+                bool inside = false, redone_nearest = false;
                 double distance = 0;
-                if (!inside_mesh(part.point, inside, distance) || (inside != part.inside && distance > kThinOffMesh * h))
+                if (!inside_mesh(part.point, inside, distance, redone_nearest) ||
+                    (inside != part.inside && (distance > kThinOffMesh * h || !redone_nearest)))
                     query->refine.push_back(part.cell);
             }
             std::sort(query->refine.begin(), query->refine.end());

@@ -257,6 +257,50 @@ TEST_CASE("parts thinner than a cell are found by their tetrahedra's edges and m
     }
 }
 
+TEST_CASE("a slab whose faces only graze its cells' corners is refined, not joined across by marching tetrahedra") {
+    // The slab 0.003 < X + Y + Z < 0.297 on 21 nodes over [-1, 1]^3 (cells of 0.1): 1.7 cells
+    // thick across, its faces a thirtieth of a cell off the lattice's diagonal planes through
+    // nodes X + Y + Z = 0 and 0.3. A cell whose lowest corner is on the first has both ends of
+    // its main diagonal outside and the rest inside, and marching tetrahedra join the two
+    // outsides along that diagonal: a tube through the slab, 0.85 cells from its faces at the
+    // cell's centre and 0.018 cells from it. That near, a thin cell's centre counted as on the
+    // mesh, and was not refined (Chainik at 64 nodes kept such a tube, 0.54 cells off, its
+    // centre 0.05 cells from it); and here the tube's six faces are as near it as each other,
+    // their normals summing to nothing, so only the normals at one nearest point tell its side.
+    const Model m = model_of("ARGUMENT X, Y, Z\nRETURN (X + Y + Z - 0.003) & (0.297 - X - Y - Z)\n");
+    const Grid grid = cube(1, 21);
+    const double h = 0.1;
+    MeshStats stats;
+    const Mesh mesh = extract_mesh(m.graph, m.root, grid, {}, &stats);
+    CHECK(open_edges(mesh) == 0);
+    // The thin cells: those whose lowest corner (i, j, k) has i + j + k = 30, none on the
+    // domain's faces (1 ≤ i, j, k ≤ 18); each refined.
+    std::size_t grazing = 0;
+    for (int i = 1; i <= 18; ++i)
+        for (int j = 1; j <= 18; ++j) grazing += 30 - i - j >= 1 && 30 - i - j <= 18;
+    CHECK(grazing == 241);
+    CHECK(stats.thin_cells == grazing);
+    CHECK(stats.refined_cells >= grazing);
+    CHECK(stats.refinement_left == 0);
+    // The mesh's points away from the domain's faces (where the caps close the slab) on the
+    // slab's faces: its vertices and the triangles' centroids and edges' midpoints. Every
+    // vertex is on one of the two planes, so a triangle off them is one joining both.
+    double farthest = 0;
+    std::array<double, 3> where{};
+    for (const auto& t : mesh.triangles)
+        for (const auto& w : {std::array<double, 3>{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0.5, 0.5, 0}, {0, 0.5, 0.5}, {0.5, 0, 0.5},
+                              {1.0 / 3, 1.0 / 3, 1.0 / 3}}) {
+            std::array<double, 3> p{};
+            for (int a = 0; a < 3; ++a) p[a] = w[0] * mesh.vertices[t[0]][a] + w[1] * mesh.vertices[t[1]][a] + w[2] * mesh.vertices[t[2]][a];
+            if (std::max({std::fabs(p[0]), std::fabs(p[1]), std::fabs(p[2])}) > 1 - 0.6 * h) continue;
+            const double sum = p[0] + p[1] + p[2];
+            const double d = std::min(std::fabs(sum - 0.003), std::fabs(0.297 - sum)) / std::sqrt(3.0);
+            if (d > farthest) farthest = d, where = p;
+        }
+    INFO("farthest ", farthest / h, " cells at ", where[0], " ", where[1], " ", where[2]);
+    CHECK(farthest < 1e-9 * h);
+}
+
 TEST_CASE("a spike's tip that marching tetrahedra cut off is put back by a vertex on the surface") {
     // A cone of half-angle 8.5° with its apex at (0.013, 0.021, 0.37), off the lattice of 25
     // nodes (cells of 1/12): its last 3.4 cells of height are thinner than a cell, and the

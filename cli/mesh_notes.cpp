@@ -15,7 +15,7 @@ std::vector<std::string> mesh_notes(const MeshStats& stats, const Grid& grid) {
     if (features.crossings_off_mesh > 0 && !(features.farthest_crossing_off <= 0.5)) {
         const std::string farthest = std::isfinite(features.farthest_crossing_off)
                                          ? fmt::format("up to {:.3g} cells", features.farthest_crossing_off)
-                                         : "more than 2 cells";
+                                         : "more than a cell";
         notes.push_back(fmt::format("sharp edges are off the mesh by {} at {} points where they cross cell faces ({} such "
                                     "points are on it): wedges thinner than a cell whose cells could not be redone",
                                     farthest, features.crossings_off_mesh, features.edge_vertices));

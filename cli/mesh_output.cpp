@@ -24,11 +24,11 @@ namespace fortu {
 
 namespace {
 
-/// How far the farthest crossing left off the mesh is, for --stats: none is sought beyond two
-/// cells.
+/// How far the farthest crossing left off the mesh is, for --stats: none is sought beyond a
+/// cell of the finished mesh.
 std::string farthest_off(const FeatureStats& features) {
     if (features.crossings_off_mesh == 0) return "";
-    if (!std::isfinite(features.farthest_crossing_off)) return " (the farthest more than 2 cells)";
+    if (!std::isfinite(features.farthest_crossing_off)) return " (the farthest more than a cell)";
     return fmt::format(" (the farthest {:.3g} cells)", features.farthest_crossing_off);
 }
 

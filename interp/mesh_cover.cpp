@@ -92,11 +92,13 @@ private:
 struct FarPoint {
     Vec point;
     double distance;  ///< to the mesh when found, in model units
+    bool crossing;    ///< a sharp edge's crossing, not a probe's (counted apart: CoverStats)
 };
 
 class Cover {
 public:
-    Cover(const Tape& tape, const Grid& grid, Mesh& mesh) : field_(tape), mesh_(mesh) {
+    /// `edge_points`: points of the surface to be measured too (with a cell round each).
+    Cover(const Tape& tape, const Grid& grid, Mesh& mesh, const std::vector<Vec>& edge_points) : field_(tape), mesh_(mesh) {
         const Axis* axes[3] = {&grid.x, &grid.y, &grid.z};
         for (int a = 0; a < 3; ++a) {
             min_[a] = axes[a]->min;
@@ -116,8 +118,14 @@ public:
                     for (int64_t x = lo[0]; x <= hi[0]; ++x) probed_.push_back(key({x, y, z}));
         }
         probed_ = grown(std::move(probed_), 1);
-        if (probed_.empty()) return;
+        std::vector<uint64_t> measured;
+        for (const Vec& p : edge_points) measured.push_back(key(cell_of(p)));
+        if (probed_.empty() && measured.empty()) return;
         region_ = grown(probed_, 3);
+        measured = grown(std::move(measured), 2);
+        std::vector<uint64_t> both;
+        std::set_union(region_.begin(), region_.end(), measured.begin(), measured.end(), std::back_inserter(both));
+        region_ = std::move(both);
         for (uint32_t t = 0; t < mesh_.triangles.size(); ++t) bucket(t);
     }
 
@@ -499,18 +507,18 @@ private:
     double h_;
     std::unordered_map<uint64_t, std::vector<uint32_t>> buckets_;  ///< cell → triangles whose box meets it
     std::vector<uint64_t> probed_;                                 ///< the cells probed, sorted
-    std::vector<uint64_t> region_;  ///< they and the cells within 3 of them, sorted: where triangles are filed
+    std::vector<uint64_t> region_;  ///< they and the cells within 3 of them (2 of an edge point's), sorted: where triangles are filed
 };
 
 }  // namespace
 
 void cover_surface(const ir::Graph& graph, ir::NodeId root, const Grid& grid, Mesh& mesh, const EvalOptions& options,
-                   CoverStats* stats) {
+                   const std::vector<std::array<double, 3>>& edge_points, CoverStats* stats) {
     CoverStats local;
     CoverStats& s = stats ? *stats : local;
     if (mesh.triangles.empty() || grid.dims != 3) return;
     const Tape tape = compile_tape(graph, TapeSpec{{root}, {}, {}, true});
-    Cover cover(tape, grid, mesh);
+    Cover cover(tape, grid, mesh, edge_points);
     const double h = cover.h();
     std::vector<std::array<int64_t, 3>> starts = cover.probe_starts();
     const int workers = worker_count(starts.size(), options);
@@ -569,9 +577,16 @@ void cover_surface(const ir::Graph& graph, ir::NodeId root, const Grid& grid, Me
     for (const auto& p : projected) {
         if (!p || !cover.interior(*p)) continue;
         const double d = cover.distance(*p);
-        if (d > kCoverDistance * h) far.push_back({*p, d});
+        if (d > kCoverDistance * h) far.push_back({*p, d, false});
     }
     s.far = far.size();
+    // The sharp edges' crossings the feature pass could not make vertices: points of the
+    // surface already, put in as the probes' are (and counted on the finished mesh below).
+    for (const Vec& p : edge_points) {
+        if (!cover.interior(p)) continue;
+        const double d = cover.distance(p);
+        if (d > kCoverDistance * h) far.push_back({p, d, true});
+    }
     // Farthest first; each measured again, as an earlier one's vertex may cover it.
     std::sort(far.begin(), far.end(), [](const FarPoint& a, const FarPoint& b) {
         return a.distance != b.distance ? a.distance > b.distance : a.point < b.point;
@@ -580,10 +595,10 @@ void cover_surface(const ir::Graph& graph, ir::NodeId root, const Grid& grid, Me
     for (const FarPoint& f : far) {
         const double d = cover.distance(f.point);
         if (!(d > kCoverDistance * h)) {
-            ++s.covered;
+            s.covered += !f.crossing;
         } else if (cover.insert(f.point)) {
-            ++s.inserted;
-        } else {
+            s.inserted += !f.crossing;
+        } else if (!f.crossing) {
             refused.push_back(f.point);
         }
     }
@@ -598,6 +613,13 @@ void cover_surface(const ir::Graph& graph, ir::NodeId root, const Grid& grid, Me
         }
         ++s.refused;
         if (std::isfinite(d)) s.farthest_left = std::max(s.farthest_left, d / h);  // else no triangle within a cell
+    }
+    // The edges' crossings on the finished mesh: within a billionth of a cell is on it.
+    for (const Vec& p : edge_points) {
+        const double d = cover.distance(p);
+        if (d <= 1e-9 * h) continue;
+        ++s.crossings_off_mesh;
+        s.farthest_crossing_off = std::max(s.farthest_crossing_off, d / h);
     }
 }
 

@@ -20,7 +20,9 @@
 #include "runtime/grid.hpp"
 #include "runtime/mesh.hpp"
 
+#include <array>
 #include <cstddef>
+#include <vector>
 
 namespace fortu {
 
@@ -38,12 +40,18 @@ struct CoverStats {
     std::size_t covered = 0;    ///< of those, covered by another's vertex (when its turn came, or at the end)
     std::size_t refused = 0;    ///< of those, no split of a triangle near them was valid, and still far at the end
     double farthest_left = 0;   ///< the farthest refused at the end, in cells
+    /// Of the sharp edges' crossings that are not vertices (sharpen_features' crossings_left),
+    /// those more than a billionth of a cell from the finished mesh, and the farthest, in
+    /// cells (infinity: no triangle within a cell).
+    std::size_t crossings_off_mesh = 0;
+    double farthest_crossing_off = 0;
 };
 
 /// Puts into `mesh` (made on `grid`'s lattice, vertex normals outward) a vertex at each
-/// surface point it finds more than kCoverDistance from it. The result depends on the input
-/// only, not on the number of threads.
+/// surface point it finds more than kCoverDistance from it, and at each of `edge_points`
+/// (points of the surface: the sharp edges' crossings the feature pass left off) as far. The
+/// result depends on the input only, not on the number of threads.
 void cover_surface(const ir::Graph& graph, ir::NodeId root, const Grid& grid, Mesh& mesh, const EvalOptions& options,
-                   CoverStats* stats = nullptr);
+                   const std::vector<std::array<double, 3>>& edge_points = {}, CoverStats* stats = nullptr);
 
 }  // namespace fortu

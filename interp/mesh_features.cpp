@@ -831,8 +831,9 @@ public:
     /// chain edges counted on it and the crossings left off measured (measure_crossings_left;
     /// `patch_of` as for build()).
     /// With a `query` that finds cells to refine (RefineQuery), the mesh is left as it was (false).
+    /// `left`: the crossings that are not vertices of the finished mesh.
     bool finish(const std::function<std::optional<std::vector<uint32_t>>(uint64_t)>& patch_of, FeatureStats* stats,
-                RefineQuery* query) {
+                RefineQuery* query, std::vector<std::array<double, 3>>* left) {
         std::vector<char> removed(mesh_.triangles.size(), 0);
         std::vector<Tri> triangles;
         std::vector<uint32_t> kept;  // the marching-tetrahedra triangles kept, as they were numbered
@@ -859,10 +860,11 @@ public:
             measure_crossings_left(triangles, first_redone, removed, patch_of, measured, query);
             if (!query->refine.empty()) return false;
         }
-        if (stats) {
-            std::vector<char> used(positions_.size(), 0);
+        std::vector<char> used(positions_.size(), 0);
+        if (stats || left)
             for (const Tri& t : triangles)
                 for (uint32_t v : t) used[v] = 1;
+        if (stats) {
             for (const Crossing& c : crossings_) stats->edge_vertices += used[c.vertex];
             std::set<uint32_t> corners;
             for (const auto& [id, apex] : apex_)
@@ -873,6 +875,9 @@ public:
             stats->chain_edges = chain_edges_;
             measure_crossings_left(triangles, first_redone, removed, patch_of, *stats);
         }
+        if (left)
+            for (const Crossing& c : crossings_)
+                if (!used[c.vertex]) left->push_back(positions_[c.vertex]);
         Mesh out{positions_, normals_, std::move(triangles)};
         drop_unused_vertices(out);
         mesh_ = std::move(out);
@@ -3890,7 +3895,8 @@ private:
 
 bool sharpen_features(const ir::Graph& graph, ir::NodeId root, const Grid& grid, Mesh& mesh,
                       const std::vector<uint64_t>& triangle_cells, const DomainCaps& caps,
-                      const std::vector<uint64_t>& frozen, FeatureStats* stats, RefineQuery* query) {
+                      const std::vector<uint64_t>& frozen, FeatureStats* stats, RefineQuery* query,
+                      std::vector<std::array<double, 3>>* crossings_left) {
     FeatureStats local;
     // A model with no edges of its own keeps marching tetrahedra's mesh, caps and all: where
     // the domain cuts a smooth field (the tanglecube on [-1, 1]³), its caps' rims would be its
@@ -3956,7 +3962,7 @@ bool sharpen_features(const ir::Graph& graph, ir::NodeId root, const Grid& grid,
             return patch_at(std::size_t(it - starts.begin()));
         };
         builder.build(patch_of);
-        if (!builder.finish(patch_of, stats ? &local : nullptr, query)) return false;
+        if (!builder.finish(patch_of, stats ? &local : nullptr, query, crossings_left)) return false;
     } else if (query) {
         query->refine = query->thin_cells();
         if (!query->refine.empty()) return false;

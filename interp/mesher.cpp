@@ -1170,12 +1170,13 @@ Mesh extract_mesh(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
     // a cell that no centre fell in). They are refined and the pass runs again on the new
     // mesh, up to kRefinePasses times.
     std::vector<uint64_t> seeds, keep, refined;
+    std::vector<std::array<double, 3>> crossings_left;
     for (int pass = 0;; ++pass) {
         RefineQuery query;
         query.thin = thin;
         const bool last = !refining || pass == kRefinePasses;
         if (sharpen_features(graph, root, grid, mesh, triangle_cells, caps, refined, stats ? &total.features : nullptr,
-                             last ? nullptr : &query))
+                             last ? nullptr : &query, &crossings_left))
             break;
         if (options.cancel && options.cancel->load()) return {};
         const std::size_t before = seeds.size();
@@ -1193,9 +1194,13 @@ Mesh extract_mesh(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
         refined = mesher.refine(seeds, keep, mesh, triangle_cells, vertex_edges, total, options);
         if (options.cancel && options.cancel->load()) return {};  // its points may be half evaluated
     }
-    // Last, on the finished mesh: the surface it passes far from (mesh_cover.hpp).
-    cover_surface(graph, root, grid, mesh, options, &total.cover);
+    // Last, on the finished mesh: the surface it passes far from, and the edges' crossings the
+    // feature pass left off it (mesh_cover.hpp), which are then counted as the finished mesh
+    // has them.
+    cover_surface(graph, root, grid, mesh, options, crossings_left, &total.cover);
     if (options.cancel && options.cancel->load()) return {};
+    total.features.crossings_off_mesh = total.cover.crossings_off_mesh;
+    total.features.farthest_crossing_off = total.cover.farthest_crossing_off;
     if (stats) *stats = total;
     return mesh;
 }

@@ -828,8 +828,8 @@ public:
 
     /// The mesh with the re-triangulated patches, the chamfers left lifted onto their edges
     /// (lift_chamfers) and unused vertices dropped; with `stats`, the feature vertices and
-    /// chain edges counted on it and the crossings left off measured (measure_crossings_left;
-    /// `patch_of` as for build()).
+    /// chain edges counted on it (the crossings left off are measured on the finished mesh,
+    /// by the cover pass; for a query, here: measure_crossings_left, `patch_of` as for build()).
     /// With a `query` that finds cells to refine (RefineQuery), the mesh is left as it was (false).
     /// `left`: the crossings that are not vertices of the finished mesh.
     bool finish(const std::function<std::optional<std::vector<uint32_t>>(uint64_t)>& patch_of, FeatureStats* stats,
@@ -873,7 +873,6 @@ public:
                 if (used[tip]) corners.insert(tip);
             stats->corner_vertices = corners.size();
             stats->chain_edges = chain_edges_;
-            measure_crossings_left(triangles, first_redone, removed, patch_of, *stats);
         }
         if (left)
             for (const Crossing& c : crossings_)

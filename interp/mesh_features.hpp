@@ -69,12 +69,10 @@ struct FeatureStats {
     std::size_t chain_edges = 0;      ///< mesh edges along the edge curves (cells redone count again)
     /// Points where an edge curve crosses a cell face that the mesh does not reach: there the
     /// marching-tetrahedra surface cuts the edge (a wedge thinner than a cell between grid
-    /// nodes whose block could not be redone). The mesher counts them on the finished mesh
-    /// (CoverStats); this pass, on its own.
+    /// nodes whose block could not be redone). Counted on the finished mesh, by the cover pass
+    /// (CoverStats, which the mesher copies here), not by sharpen_features.
     std::size_t crossings_off_mesh = 0;
-    /// The farthest of those from the mesh, in cells (infinity: none within the cells sought,
-    /// two round it here, one on the finished mesh).
-    double farthest_crossing_off = 0;
+    double farthest_crossing_off = 0;  ///< the farthest of those from the mesh, in cells (infinity: none within a cell)
 };
 
 /// Where the domain cuts the solid: the mesher closes it there with caps, `margin` of a step
@@ -164,11 +162,11 @@ struct RefineQuery {
 };
 
 /// Unused vertices are dropped; the order of the result depends on the input only. The
-/// crossings left off the mesh are measured for `stats` (the golden runner and `fortu bench`
-/// do without) and for a `query`: where it finds cells to refine, the mesh is left as it was
-/// (false), for the mesher to refine them and call again. When the mesh is changed, the
-/// crossings that are not its vertices are added to `crossings_left` (points of the edges:
-/// the cover pass puts those it finds far from the mesh in, and measures them all after).
+/// crossings left off the mesh are measured for a `query`: where it finds cells to refine, the
+/// mesh is left as it was (false), for the mesher to refine them and call again. When the mesh
+/// is changed, the crossings that are not its vertices are added to `crossings_left` (points
+/// of the edges: the cover pass puts those it finds far from the mesh in, and measures them
+/// all on the finished mesh, for FeatureStats).
 bool sharpen_features(const ir::Graph& graph, ir::NodeId root, const Grid& grid, Mesh& mesh,
                       const std::vector<uint64_t>& triangle_cells, const DomainCaps& caps,
                       const std::vector<uint64_t>& frozen = {}, FeatureStats* stats = nullptr,

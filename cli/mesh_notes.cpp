@@ -11,14 +11,14 @@ namespace fortu {
 std::vector<std::string> mesh_notes(const MeshStats& stats, const Grid& grid) {
     std::vector<std::string> notes;
     // Sharp edges: the bound the mesh otherwise keeps is half a cell.
-    const FeatureStats& features = stats.features;
-    if (features.crossings_off_mesh > 0 && !(features.farthest_crossing_off <= 0.5)) {
-        const std::string farthest = std::isfinite(features.farthest_crossing_off)
-                                         ? fmt::format("up to {:.3g} cells", features.farthest_crossing_off)
+    const CoverStats& cover = stats.cover;
+    if (cover.crossings_off_mesh > 0 && !(cover.farthest_crossing_off <= 0.5)) {
+        const std::string farthest = std::isfinite(cover.farthest_crossing_off)
+                                         ? fmt::format("up to {:.3g} cells", cover.farthest_crossing_off)
                                          : "more than a cell";
         notes.push_back(fmt::format("sharp edges are off the mesh by {} at {} points where they cross cell faces ({} such "
                                     "points are on it): wedges thinner than a cell whose cells could not be redone",
-                                    farthest, features.crossings_off_mesh, features.edge_vertices));
+                                    farthest, cover.crossings_off_mesh, stats.features.edge_vertices));
     }
     if (stats.refinement_left > 0) {
         // A centre on a symmetric domain's middle plane is zero to round-off: shown as 0.

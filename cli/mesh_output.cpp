@@ -26,10 +26,10 @@ namespace {
 
 /// How far the farthest crossing left off the mesh is, for --stats: none is sought beyond a
 /// cell of the finished mesh.
-std::string farthest_off(const FeatureStats& features) {
-    if (features.crossings_off_mesh == 0) return "";
-    if (!std::isfinite(features.farthest_crossing_off)) return " (the farthest more than a cell)";
-    return fmt::format(" (the farthest {:.3g} cells)", features.farthest_crossing_off);
+std::string farthest_off(const CoverStats& cover) {
+    if (cover.crossings_off_mesh == 0) return "";
+    if (!std::isfinite(cover.farthest_crossing_off)) return " (the farthest more than a cell)";
+    return fmt::format(" (the farthest {:.3g} cells)", cover.farthest_crossing_off);
 }
 
 }  // namespace
@@ -95,7 +95,7 @@ int run_mesh_output(const Model& model, const Grid& grid, const CliOptions& o, d
         stats.refine_seeds, stats.refined_cells, kRefine, stats.transition_cells, stats.refinement_left,
         stats.features.cells_tested,
         stats.features.edge_vertices, stats.features.corner_vertices, stats.features.chain_edges,
-        stats.features.crossings_off_mesh, farthest_off(stats.features), stats.cover.probes, stats.cover.far,
+        stats.cover.crossings_off_mesh, farthest_off(stats.cover), stats.cover.probes, stats.cover.far,
         kCoverDistance, stats.cover.inserted, stats.cover.covered, stats.cover.refused,
         stats.cover.refused ? fmt::format(" (the farthest {:.3f} cells)", stats.cover.farthest_left) : "", compile_seconds,
         mesh_seconds, write_seconds, format_bytes(mesh_peak), format_bytes(peak_rss_bytes()));

@@ -42,7 +42,8 @@ struct CoverStats {
     double farthest_left = 0;   ///< the farthest refused at the end, in cells
     /// Of the sharp edges' crossings that are not vertices (sharpen_features' crossings_left),
     /// those more than a billionth of a cell from the finished mesh, and the farthest, in
-    /// cells (infinity: no triangle within a cell).
+    /// cells (infinity: no triangle within a cell): there the marching-tetrahedra surface cuts
+    /// the edge (a wedge thinner than a cell whose cells could not be redone).
     std::size_t crossings_off_mesh = 0;
     double farthest_crossing_off = 0;
 };

@@ -828,8 +828,9 @@ public:
 
     /// The mesh with the re-triangulated patches, the chamfers left lifted onto their edges
     /// (lift_chamfers) and unused vertices dropped; with `stats`, the feature vertices and
-    /// chain edges counted on it (the crossings left off are measured on the finished mesh,
-    /// by the cover pass; for a query, here: measure_crossings_left, `patch_of` as for build()).
+    /// chain edges counted on it (the crossings left off are counted on the finished mesh, by
+    /// the cover pass: CoverStats); for a query, its cells found (find_cells_to_refine,
+    /// `patch_of` as for build()).
     /// With a `query` that finds cells to refine (RefineQuery), the mesh is left as it was (false).
     /// `left`: the crossings that are not vertices of the finished mesh.
     bool finish(const std::function<std::optional<std::vector<uint32_t>>(uint64_t)>& patch_of, FeatureStats* stats,
@@ -856,8 +857,7 @@ public:
             if (!gone[t]) remaining.push_back(triangles[t]);
         triangles = std::move(remaining);
         if (query) {
-            FeatureStats measured;
-            measure_crossings_left(triangles, first_redone, removed, patch_of, measured, query);
+            find_cells_to_refine(triangles, first_redone, removed, patch_of, *query);
             if (!query->refine.empty()) return false;
         }
         std::vector<char> used(positions_.size(), 0);
@@ -1327,17 +1327,17 @@ private:
         return true;
     }
 
-    /// The crossings the mesh (`triangles`: the marching-tetrahedra ones kept, those of the
-    /// redone patches from `first_redone` on) does not reach within a billionth of a cell,
-    /// neither as a vertex nor on a triangle through its point (a chain edge through a
-    /// straight edge's crossings passes through those between its ends), and the farthest of
-    /// them from it: where a gap's block or a cell failed, the marching-tetrahedra surface
-    /// cuts the edge there. Distances are sought within two cells (farther is infinity): a kept
-    /// triangle lies in its cell (`removed`: the original triangles redone; `patch_of`: a
-    /// cell's original ones).
-    void measure_crossings_left(const std::vector<Tri>& triangles, std::size_t first_redone, const std::vector<char>& removed,
+    /// The `query`'s cells to refine, on the mesh as it would be (`triangles`: the
+    /// marching-tetrahedra ones kept, those of the redone patches from `first_redone` on):
+    /// round each crossing that is not a vertex and is more than half a cell from it (where a
+    /// gap's block or a cell failed, the marching-tetrahedra surface cuts the edge there;
+    /// distances are sought within two cells, farther is infinity: a kept triangle lies in its
+    /// cell, `removed`: the original triangles redone, `patch_of`: a cell's original ones), and
+    /// the thin cells whose point it leaves on the wrong side. (The crossings left off the
+    /// finished mesh are counted by the cover pass, on the mesh as written.)
+    void find_cells_to_refine(const std::vector<Tri>& triangles, std::size_t first_redone, const std::vector<char>& removed,
                                 const std::function<std::optional<std::vector<uint32_t>>(uint64_t)>& patch_of,
-                                FeatureStats& stats, RefineQuery* query = nullptr) const {
+                                RefineQuery& query) const {
         const double h = lattice_h();
         std::vector<char> used(positions_.size(), 0);
         for (const Tri& t : triangles)
@@ -1348,7 +1348,7 @@ private:
         std::vector<Vec> left;
         for (const Crossing& c : crossings_)
             if (!used[c.vertex]) left.push_back(positions_[c.vertex]);
-        if (left.empty() && (!query || query->thin.empty())) return;
+        if (left.empty() && query.thin.empty()) return;
         std::unordered_map<uint64_t, std::vector<uint32_t>> redone;  // a cell → the redone triangles meeting it
         for (std::size_t t = first_redone; t < triangles.size(); ++t) {
             const Vec &p = positions_[triangles[t][0]], &q = positions_[triangles[t][1]], &r = positions_[triangles[t][2]];
@@ -1386,18 +1386,16 @@ private:
             for (long z = lo[2]; z <= hi[2]; ++z)
                 for (long y = lo[1]; y <= hi[1]; ++y)
                     for (long x = lo[0]; x <= hi[0]; ++x)
-                        for (const auto& [t, redone_here] : in_cell(cell_id(uint64_t(x), uint64_t(y), uint64_t(z))))
-                            distance = std::min(distance, point_triangle_distance(q, positions_[t[0]], positions_[t[1]], positions_[t[2]]));
+                        for (const NearTriangle& t : in_cell(cell_id(uint64_t(x), uint64_t(y), uint64_t(z))))
+                            distance = std::min(distance, point_triangle_distance(q, positions_[t.corners[0]], positions_[t.corners[1]],
+                                                                                  positions_[t.corners[2]]));
             return distance;
         };
         for (const Vec& q : left) {
             double distance = nearest(q, 1);
             if (distance > h) distance = nearest(q, 2);
-            if (distance <= 1e-9 * h) continue;
-            ++stats.crossings_off_mesh;
-            stats.farthest_crossing_off = std::max(stats.farthest_crossing_off, distance / h);
-            if (query && !(distance <= 0.5 * h))
-                for (uint64_t id : cells_around(q)) query->refine.push_back(id);
+            if (!(distance <= 0.5 * h))
+                for (uint64_t id : cells_around(q)) query.refine.push_back(id);
         }
         // Which side of the finished mesh p is on, by the triangles nearest it within a cell
         // (their normals summed where they meet at the nearest point: not those as near at
@@ -1439,28 +1437,26 @@ private:
             inside = dot(sub(p, closest), normal) < 0;
             return true;
         };
-        if (query) {
-            for (const ThinPart& part : query->thin) {
-                // Where the pass put the part's edges back, the mesh has its point on the side
-                // the field says, or a hair across a face it put back; elsewhere marching
-                // tetrahedra's surface cuts it off, however near it passes (Chainik at 64
-                // nodes: 0.05 cells from a cell's centre 0.5 cells deep in a slab whose
-                // surfaces it joins across).
-                bool inside = false, redone_nearest = false;
-                double distance = 0;
-                if (!inside_mesh(part.point, inside, distance, redone_nearest) ||
-                    (inside != part.inside && (distance > kThinOffMesh * h || !redone_nearest)))
-                    query->refine.push_back(part.cell);
-            }
-            std::sort(query->refine.begin(), query->refine.end());
-            query->refine.erase(std::unique(query->refine.begin(), query->refine.end()), query->refine.end());
-            for (const auto& [id, apex] : apex_)
-                if (used[apex] && apex_equations_.at(id).size() >= 3) query->keep.push_back(id);
-            for (const auto& [id, cells] : groups_) query->keep.insert(query->keep.end(), cells.begin(), cells.end());
-            query->keep.insert(query->keep.end(), banded_.begin(), banded_.end());
-            std::sort(query->keep.begin(), query->keep.end());
-            query->keep.erase(std::unique(query->keep.begin(), query->keep.end()), query->keep.end());
+        for (const ThinPart& part : query.thin) {
+            // Where the pass put the part's edges back, the mesh has its point on the side
+            // the field says, or a hair across a face it put back; elsewhere marching
+            // tetrahedra's surface cuts it off, however near it passes (Chainik at 64
+            // nodes: 0.05 cells from a cell's centre 0.5 cells deep in a slab whose
+            // surfaces it joins across).
+            bool inside = false, redone_nearest = false;
+            double distance = 0;
+            if (!inside_mesh(part.point, inside, distance, redone_nearest) ||
+                (inside != part.inside && (distance > kThinOffMesh * h || !redone_nearest)))
+                query.refine.push_back(part.cell);
         }
+        std::sort(query.refine.begin(), query.refine.end());
+        query.refine.erase(std::unique(query.refine.begin(), query.refine.end()), query.refine.end());
+        for (const auto& [id, apex] : apex_)
+            if (used[apex] && apex_equations_.at(id).size() >= 3) query.keep.push_back(id);
+        for (const auto& [id, cells] : groups_) query.keep.insert(query.keep.end(), cells.begin(), cells.end());
+        query.keep.insert(query.keep.end(), banded_.begin(), banded_.end());
+        std::sort(query.keep.begin(), query.keep.end());
+        query.keep.erase(std::unique(query.keep.begin(), query.keep.end()), query.keep.end());
     }
 
     /// Two of the patch's vertex normals more than ~26° apart.

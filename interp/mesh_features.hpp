@@ -67,12 +67,8 @@ struct FeatureStats {
     std::size_t edge_vertices = 0;    ///< vertices where an R-operation's edge curve crosses a cell face
     std::size_t corner_vertices = 0;  ///< vertices where edges meet
     std::size_t chain_edges = 0;      ///< mesh edges along the edge curves (cells redone count again)
-    /// Points where an edge curve crosses a cell face that the mesh does not reach: there the
-    /// marching-tetrahedra surface cuts the edge (a wedge thinner than a cell between grid
-    /// nodes whose block could not be redone). Counted on the finished mesh, by the cover pass
-    /// (CoverStats, which the mesher copies here), not by sharpen_features.
-    std::size_t crossings_off_mesh = 0;
-    double farthest_crossing_off = 0;  ///< the farthest of those from the mesh, in cells (infinity: none within a cell)
+    // The crossings the finished mesh does not reach are counted by the cover pass
+    // (CoverStats::crossings_off_mesh), on the mesh as written.
 };
 
 /// Where the domain cuts the solid: the mesher closes it there with caps, `margin` of a step

@@ -1195,12 +1195,10 @@ Mesh extract_mesh(const ir::Graph& graph, ir::NodeId root, const Grid& grid, con
         if (options.cancel && options.cancel->load()) return {};  // its points may be half evaluated
     }
     // Last, on the finished mesh: the surface it passes far from, and the edges' crossings the
-    // feature pass left off it (mesh_cover.hpp), which are then counted as the finished mesh
+    // feature pass left off it (mesh_cover.hpp), which it then counts as the finished mesh
     // has them.
     cover_surface(graph, root, grid, mesh, options, crossings_left, &total.cover);
     if (options.cancel && options.cancel->load()) return {};
-    total.features.crossings_off_mesh = total.cover.crossings_off_mesh;
-    total.features.farthest_crossing_off = total.cover.farthest_crossing_off;
     if (stats) *stats = total;
     return mesh;
 }

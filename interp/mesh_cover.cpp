@@ -535,12 +535,11 @@ void cover_surface(const ir::Graph& graph, ir::NodeId root, const Grid& grid, Me
     // exceeds little), the start is left out before Newton needs the gradient there.
     {
         std::vector<double> value(starts.size());
-        parallel_for((starts.size() + kChunk - 1) / kChunk, options, [&](std::size_t chunk, int worker) {
+        parallel_ranges(starts.size(), kChunk, options, [&](std::size_t begin, std::size_t end, int worker) {
             std::vector<Vec> points;
-            for (std::size_t i = chunk * kChunk; i < std::min(starts.size(), (chunk + 1) * kChunk); ++i) points.push_back(cover.position(starts[i]));
+            for (std::size_t i = begin; i < end; ++i) points.push_back(cover.position(starts[i]));
             const double* v = fields[std::size_t(worker)].values(points);
-            std::copy(v, v + points.size(), value.begin() + long(chunk * kChunk));
-            return std::size_t{0};
+            std::copy(v, v + points.size(), value.begin() + long(begin));
         });
         if (options.cancel && options.cancel->load()) return;
         // Each start's test reads only the values, so the starts are shared among the threads.
@@ -563,9 +562,8 @@ void cover_surface(const ir::Graph& graph, ir::NodeId root, const Grid& grid, Me
             return !known || !(std::fabs(value[i]) > kProbeReach * h * std::sqrt(slope2));
         };
         std::vector<char> keep(starts.size());
-        parallel_for((starts.size() + kChunk - 1) / kChunk, options, [&](std::size_t chunk, int) {
-            for (std::size_t i = chunk * kChunk; i < std::min(starts.size(), (chunk + 1) * kChunk); ++i) keep[i] = near_enough(i);
-            return std::size_t{0};
+        parallel_ranges(starts.size(), kChunk, options, [&](std::size_t begin, std::size_t end, int) {
+            for (std::size_t i = begin; i < end; ++i) keep[i] = near_enough(i);
         });
         std::vector<std::array<int64_t, 3>> near;
         for (std::size_t i = 0; i < starts.size(); ++i)
@@ -577,17 +575,16 @@ void cover_surface(const ir::Graph& graph, ir::NodeId root, const Grid& grid, Me
     // evaluator), the far ones gathered after, in order.
     std::vector<std::optional<Vec>> projected(starts.size());
     std::vector<double> to_mesh(starts.size());
-    parallel_for((starts.size() + kChunk - 1) / kChunk, options, [&](std::size_t chunk, int worker) {
+    parallel_ranges(starts.size(), kChunk, options, [&](std::size_t begin, std::size_t end, int worker) {
         std::vector<Vec> points;
-        for (std::size_t i = chunk * kChunk; i < std::min(starts.size(), (chunk + 1) * kChunk); ++i) points.push_back(cover.position(starts[i]));
+        for (std::size_t i = begin; i < end; ++i) points.push_back(cover.position(starts[i]));
         auto landed = Cover::project(fields[std::size_t(worker)], points, h, kProbeReach * h, kMaxTravel * h, [&](const Vec& p, double r) {
             const double enough = kCoverDistance * h - 2 * r;
             return cover.distance(p, enough) < enough;
         });
         for (std::size_t k = 0; k < landed.size(); ++k)
-            if (landed[k] && cover.interior(*landed[k])) to_mesh[chunk * kChunk + k] = cover.distance(*landed[k]);
-        std::move(landed.begin(), landed.end(), projected.begin() + long(chunk * kChunk));
-        return std::size_t{0};
+            if (landed[k] && cover.interior(*landed[k])) to_mesh[begin + k] = cover.distance(*landed[k]);
+        std::move(landed.begin(), landed.end(), projected.begin() + long(begin));
     });
     if (options.cancel && options.cancel->load()) return;
     std::vector<FarPoint> far;

@@ -1336,8 +1336,8 @@ private:
     /// the thin cells whose point it leaves on the wrong side. (The crossings left off the
     /// finished mesh are counted by the cover pass, on the mesh as written.)
     void find_cells_to_refine(const std::vector<Tri>& triangles, std::size_t first_redone, const std::vector<char>& removed,
-                                const std::function<std::optional<std::vector<uint32_t>>(uint64_t)>& patch_of,
-                                RefineQuery& query) const {
+                              const std::function<std::optional<std::vector<uint32_t>>(uint64_t)>& patch_of,
+                              RefineQuery& query) const {
         const double h = lattice_h();
         std::vector<char> used(positions_.size(), 0);
         for (const Tri& t : triangles)

@@ -162,7 +162,7 @@ struct RefineQuery {
 /// mesh is left as it was (false), for the mesher to refine them and call again. When the mesh
 /// is changed, the crossings that are not its vertices are added to `crossings_left` (points
 /// of the edges: the cover pass puts those it finds far from the mesh in, and measures them
-/// all on the finished mesh, for FeatureStats).
+/// all on the finished mesh, for CoverStats).
 bool sharpen_features(const ir::Graph& graph, ir::NodeId root, const Grid& grid, Mesh& mesh,
                       const std::vector<uint64_t>& triangle_cells, const DomainCaps& caps,
                       const std::vector<uint64_t>& frozen = {}, FeatureStats* stats = nullptr,

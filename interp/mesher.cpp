@@ -877,13 +877,11 @@ public:
         std::sort(corners.begin(), corners.end());
         corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
         std::vector<char> at_corner(vertex_edges.size());
-        constexpr std::size_t kChunk = 4096;
         EvalOptions quiet = options;
         quiet.progress = nullptr;
-        parallel_for((vertex_edges.size() + kChunk - 1) / kChunk, quiet, [&](std::size_t chunk, int) {
-            for (std::size_t v = chunk * kChunk; v < std::min(vertex_edges.size(), (chunk + 1) * kChunk); ++v)
+        parallel_ranges(vertex_edges.size(), 4096, quiet, [&](std::size_t begin, std::size_t end, int) {
+            for (std::size_t v = begin; v < end; ++v)
                 at_corner[v] = vertex_edges[v] != UINT64_MAX && std::binary_search(corners.begin(), corners.end(), vertex_edges[v] / 8);
-            return std::size_t{0};
         });
         std::unordered_map<uint64_t, uint32_t> on_lattice;
         for (uint32_t v = 0; v < vertex_edges.size(); ++v)

@@ -6,6 +6,8 @@
 #include "interp/engine.hpp"
 #include "runtime/parallel.hpp"
 
+#include <algorithm>
+
 namespace fortu {
 
 /// Threads parallel_for will use for `count` items.
@@ -18,6 +20,16 @@ void parallel_for(std::size_t count, const EvalOptions& options, Work&& work) {
     parallel_for(count, options.threads, options.cancel, [&](std::size_t i, int worker) {
         const std::size_t points = work(i, worker);
         if (options.progress) options.progress(points);
+    });
+}
+
+/// Calls work(begin, end, worker) for the consecutive ranges of at most `chunk` items that
+/// make up [0, count), a range per parallel_for item: for items too small to hand out alone.
+template <class Work>
+void parallel_ranges(std::size_t count, std::size_t chunk, const EvalOptions& options, Work&& work) {
+    parallel_for((count + chunk - 1) / chunk, options, [&](std::size_t c, int worker) {
+        work(c * chunk, std::min(count, (c + 1) * chunk), worker);
+        return std::size_t{0};
     });
 }
 
